@@ -1,0 +1,116 @@
+"""The ``walk3d`` command line (Typer + Rich).
+
+Bad input gives one clear error line on stderr and exit code 2.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+from typing import Annotated
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import typer  # noqa: E402
+from rich.console import Console  # noqa: E402
+from rich.table import Table  # noqa: E402
+
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help="Predict three-dimensional whole-body human walking.",
+    pretty_exceptions_enable=False,
+)
+console = Console()
+err_console = Console(stderr=True)
+
+Mass = Annotated[float, typer.Option("--mass", help="Body mass, kg.")]
+Height = Annotated[float, typer.Option("--height", help="Stature, m.")]
+Sex = Annotated[str, typer.Option("--sex", help="de Leva table: male or female.")]
+
+
+def fail(message: str, code: int = 2) -> None:
+    """Print one error line and exit (2 = bad input)."""
+    sys.stderr.write(f"walk3d: error: {message}\n")
+    raise typer.Exit(code)
+
+
+@app.command()
+def body(
+    mass: Mass = 68.8,
+    height: Height = 1.77,
+    sex: Sex = "male",
+    as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+) -> None:
+    """Print the segment table (mass, centre of mass, inertia, length) and joint parameters."""
+    from walk3d.body.model import build_body
+    from walk3d.body.report import body_table
+
+    try:
+        model = build_body(mass, height, sex)
+    except ValueError as exc:
+        fail(str(exc))
+    table = body_table(model)
+    if as_json:
+        sys.stdout.write(json.dumps(table) + "\n")
+        return
+    t = Table(title=f"walk3d body: {mass:g} kg, {height:g} m, {sex} (de Leva 1996)")
+    for col in ("segment", "mass kg", "COM m (x, y, z)", "inertia kg m² (x, y, z)", "length m"):
+        t.add_column(col)
+    for s in table["segments"]:
+        t.add_row(
+            s["name"],
+            f"{s['mass_kg']:.4f}",
+            " ".join(f"{v:+.4f}" for v in s["com_m"]),
+            " ".join(f"{v:.4f}" for v in s["inertia_kg_m2"]),
+            f"{s['length_m']:.4f}",
+        )
+    console.print(t)
+    j = Table(title="joints (ranges in degrees, strengths in N m: positive / negative)")
+    for col in ("joint", "type", "DoF", "range", "strength"):
+        j.add_column(col)
+    for row in table["joints"]:
+        for k, dof in enumerate(row["dofs"]):
+            lo, hi = row["range_deg"][k]
+            j.add_row(
+                row["name"] if k == 0 else "",
+                row["type"] if k == 0 else "",
+                dof,
+                f"{lo:g} .. {hi:g}",
+                f"{row['strength_positive_Nm'][k]:.0f} / {row['strength_negative_Nm'][k]:.0f}",
+            )
+    console.print(j)
+
+
+@app.callback()
+def _root() -> None:
+    """Predict three-dimensional whole-body human walking."""
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Console-script entry point: usage errors become one line and exit code 2."""
+    args = list(sys.argv[1:] if argv is None else argv) or ["--help"]
+    command = typer.main.get_command(app)
+    try:
+        rv = command.main(args=args, prog_name="walk3d", standalone_mode=False)
+    except KeyboardInterrupt:
+        err_console.print("walk3d: interrupted", markup=False)
+        sys.exit(130)
+    except Exception as exc:  # Typer vendors click: match its exceptions by shape
+        kind = type(exc).__name__
+        if kind == "Exit":
+            sys.exit(getattr(exc, "exit_code", 0))
+        if kind == "Abort":
+            err_console.print("walk3d: interrupted", markup=False)
+            sys.exit(130)
+        if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
+            msg = " ".join(exc.format_message().split())
+            sys.stderr.write(f"walk3d: error: {msg}\n")
+            sys.exit(2)
+        raise
+    sys.exit(rv if isinstance(rv, int) else 0)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,85 @@
+"""Gait phases from the period T and the double-support duration Td.
+
+The cycle starts at toe off of the reference (right) leg, as in the paper:
+
+=====================  ======================================
+time                   event
+=====================  ======================================
+0                      right toe off (right swing starts)
+T/2 - Td               right heel strike (double support 1)
+T/2                    left toe off
+T - Td                 left heel strike (double support 2)
+T                      right toe off
+=====================  ======================================
+
+With T = 1.08 s and Td = 0.16 s this is 0–35 % swing, 35–50 % and 85–100 % double support:
+the paper's 36 % and 86 %, rounded. The root of the kinematic chain is the foot that struck the
+ground last (right from its heel strike to the left heel strike, then left): in double support
+the root is the leading foot, and the trailing foot closes the loop.
+
+During double support the trailing foot unloads as ``exp(-(τ/T_ds)³)`` with ``T_ds = Td/2`` and
+``τ`` the time since the contralateral heel strike (paper Eq. 6).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class GaitPhases:
+    period: float
+    double_support: float
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(self.period) and self.period > 0):
+            raise ValueError(f"gait period must be positive, got {self.period}")
+        if not (np.isfinite(self.double_support) and 0 < self.double_support < self.period / 2):
+            raise ValueError(
+                f"double-support duration must be in (0, T/2) = (0, {self.period / 2:g}) s, "
+                f"got {self.double_support}"
+            )
+
+    @property
+    def heel_strike_r(self) -> float:
+        return self.period / 2 - self.double_support
+
+    @property
+    def heel_strike_l(self) -> float:
+        return self.period - self.double_support
+
+    @property
+    def toe_off_l(self) -> float:
+        return self.period / 2
+
+    def _phase(self, t) -> np.ndarray:
+        return np.mod(np.asarray(t, dtype=float), self.period)
+
+    def root_is_right(self, t) -> np.ndarray:
+        """True where the right foot is the root of the chain."""
+        p = self._phase(t)
+        return (p >= self.heel_strike_r) & (p < self.heel_strike_l)
+
+    def in_stance(self, t, side: str) -> np.ndarray:
+        """True where foot ``side`` touches the ground (both ends of stance included)."""
+        p = self._phase(t)
+        if side == "r":
+            return (p >= self.heel_strike_r) | (p == 0.0)
+        return (p <= self.toe_off_l) | (p >= self.heel_strike_l)
+
+    def double_support_mask(self, t) -> np.ndarray:
+        return self.in_stance(t, "r") & self.in_stance(t, "l")
+
+    def time_since_heel_strike(self, t) -> np.ndarray:
+        """Time since the root foot's heel strike, s."""
+        p = self._phase(t)
+        right = self.root_is_right(t)
+        return np.where(right, p - self.heel_strike_r, np.mod(p - self.heel_strike_l, self.period))
+
+    def trailing_decay(self, t) -> np.ndarray:
+        """Share of its heel-strike load still on the trailing (non-root) foot; 0 in swing."""
+        tau = self.time_since_heel_strike(t)
+        t_ds = self.double_support / 2
+        return np.where(tau <= self.double_support, np.exp(-((tau / t_ds) ** 3)), 0.0)

@@ -1,0 +1,65 @@
+"""File readers and writers of walk3d: OpenSim storages and ExternalLoads, TRC, C3D, cycle tables.
+
+Gait-event detection and cycle normalisation for measured data live in :mod:`walk3d.io.events`.
+Every malformed or truncated file raises :class:`~walk3d.io.errors.DataFileError`.
+"""
+
+from walk3d.io.c3d import AnalogData, C3dData, ForcePlatform, PointData, read_c3d
+from walk3d.io.cycle_table import CycleTable, read_cycle_table
+from walk3d.io.errors import DataFileError
+from walk3d.io.events import (
+    FootEvents,
+    detect_contacts,
+    detect_foot_events,
+    mean_sd,
+    normalize_cycles,
+    percent_axis,
+    stride_periods,
+)
+from walk3d.io.external_loads import (
+    ExternalForceSpec,
+    FootLoads,
+    PlateColumns,
+    PlateLoad,
+    combine_loads,
+    extract_foot_loads,
+    find_plates,
+    read_external_loads_xml,
+    write_external_loads_xml,
+    write_grf_storage,
+)
+from walk3d.io.storage import Storage, read_storage, write_storage
+from walk3d.io.trc import TrcData, read_trc
+
+__all__ = [
+    "AnalogData",
+    "C3dData",
+    "ForcePlatform",
+    "PointData",
+    "read_c3d",
+    "CycleTable",
+    "DataFileError",
+    "ExternalForceSpec",
+    "FootEvents",
+    "FootLoads",
+    "PlateColumns",
+    "PlateLoad",
+    "Storage",
+    "TrcData",
+    "combine_loads",
+    "detect_contacts",
+    "detect_foot_events",
+    "extract_foot_loads",
+    "find_plates",
+    "mean_sd",
+    "normalize_cycles",
+    "percent_axis",
+    "read_cycle_table",
+    "read_external_loads_xml",
+    "read_storage",
+    "read_trc",
+    "stride_periods",
+    "write_external_loads_xml",
+    "write_grf_storage",
+    "write_storage",
+]

@@ -1,0 +1,75 @@
+"""Shared fixtures: smooth random motions evaluated numerically."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+from walk3d.body.model import build_body  # noqa: E402
+from walk3d.kinematics import fourier  # noqa: E402
+from walk3d.kinematics.forward import (  # noqa: E402
+    forward,
+    joint_quaternions,
+    root_foot_triples,
+)
+
+PERIOD = 1.08
+
+
+@pytest.fixture(scope="session")
+def body():
+    return build_body()
+
+
+def random_coefficients(rng: np.random.Generator, n: int, scale: float) -> np.ndarray:
+    """Fourier coefficients (n, 11) of smooth signals with amplitude ~scale."""
+    decay = np.array([1.0] + [1.0 / k for k in range(1, 6) for _ in range(2)])
+    return rng.uniform(-1, 1, (n, fourier.N_COEF)) * decay * scale
+
+
+def evaluate_motion(body, coef_dof, coef_foot, t, root="foot_r", anchor=(0.0, 0.1)):
+    """Pose at times t for DoF series (24, 11) and stance-foot series (11,)."""
+    b0, b1, b2 = fourier.basis(t, PERIOD)
+    dof = [(b0 @ c, b1 @ c, b2 @ c) for c in coef_dof]
+    s_ft = (b0 @ coef_foot, b1 @ coef_foot, b2 @ coef_foot)
+    jq = joint_quaternions(body, dof)
+    side = root[-1]
+    q_root, p_root = root_foot_triples(body, side, s_ft, anchor)
+    return forward(body, jq, body.segment_index(root), q_root, p_root)
+
+
+@pytest.fixture(scope="session")
+def random_motion(body):
+    rng = np.random.default_rng(7)
+    coef_dof = random_coefficients(rng, 24, 0.15)
+    coef_foot = random_coefficients(rng, 1, 0.1)[0]
+
+    def at(t):
+        return evaluate_motion(body, coef_dof, coef_foot, np.atleast_1d(t))
+
+    return at
+
+
+FD_STEP = 1e-3
+
+
+def fd1(f, t, h=FD_STEP):
+    """Fourth-order central first derivative of f (array-valued, time first)."""
+    return (-f(t + 2 * h) + 8 * f(t + h) - 8 * f(t - h) + f(t - 2 * h)) / (12 * h)
+
+
+def fd2(f, t, h=FD_STEP):
+    """Fourth-order central second derivative."""
+    return (-f(t + 2 * h) + 16 * f(t + h) - 30 * f(t) + 16 * f(t - h) - f(t - 2 * h)) / (12 * h**2)
+
+
+def assert_rel(actual, expected, rel=1e-6):
+    """|actual - expected| <= rel * max|expected| (relative to the signal's scale)."""
+    actual, expected = np.asarray(actual), np.asarray(expected)
+    scale = max(np.max(np.abs(expected)), 1e-12)
+    err = np.max(np.abs(actual - expected))
+    assert err <= rel * scale, f"max error {err:.3e} > {rel:.0e} x scale {scale:.3e}"
