@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from conftest import assert_rel, fd1
+from helpers import assert_rel, fd1
 
 from walk3d import G
 from walk3d.dynamics.newton_euler import (

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from conftest import assert_rel, fd1, fd2
+from helpers import assert_rel, fd1, fd2
 
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import (

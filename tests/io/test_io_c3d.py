@@ -1,0 +1,103 @@
+"""C3D reading with ezc3d: synthetic round trip in metres, force platform, damaged files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from walk3d.io import DataFileError, read_c3d
+
+ezc3d = pytest.importorskip("ezc3d")
+
+N_FRAMES, POINT_RATE, ANALOG_RATE = 20, 100.0, 1000.0
+
+
+def _write_synthetic(path: Path) -> np.ndarray:
+    """Two markers in mm moving 1 m/s along x, six plate channels; returns positions (m)."""
+    c3d = ezc3d.c3d()
+    c3d["parameters"]["POINT"]["RATE"]["value"] = [POINT_RATE]
+    c3d["parameters"]["POINT"]["LABELS"]["value"] = ("HEEL", "TOE")
+    c3d["parameters"]["POINT"]["UNITS"]["value"] = ["mm"]
+    t = np.arange(N_FRAMES) / POINT_RATE
+    pos_m = np.zeros((N_FRAMES, 2, 3))
+    pos_m[:, 0] = np.column_stack([t, np.full_like(t, 0.05), np.full_like(t, 0.1)])
+    pos_m[:, 1] = pos_m[:, 0] + [0.2, -0.02, 0.0]
+    points = np.ones((4, 2, N_FRAMES))
+    points[:3] = np.transpose(pos_m * 1000.0, (2, 1, 0))
+    points[:3, 1, 5] = np.nan  # TOE not seen in frame 5
+    c3d["data"]["points"] = points
+    ratio = int(ANALOG_RATE / POINT_RATE)
+    c3d["parameters"]["ANALOG"]["RATE"]["value"] = [ANALOG_RATE]
+    c3d["parameters"]["ANALOG"]["LABELS"]["value"] = ("Fx1", "Fy1", "Fz1", "Mx1", "My1", "Mz1")
+    c3d["parameters"]["ANALOG"]["UNITS"]["value"] = ("N", "N", "N", "Nmm", "Nmm", "Nmm")
+    analogs = np.zeros((1, 6, N_FRAMES * ratio))
+    analogs[0, 2] = -700.0  # plate pushed down by 700 N
+    analogs[0, 3] = 700.0 * 50.0  # Mx, N mm: centre of pressure 50 mm off centre in y
+    analogs[0, 4] = -700.0 * 100.0  # My, N mm: 100 mm off centre in x
+    c3d["data"]["analogs"] = analogs
+    fp = c3d["parameters"]["FORCE_PLATFORM"]
+    fp["USED"]["value"] = np.array([1])
+    fp["TYPE"]["value"] = np.array([2])
+    corners = np.array([[300, 200, 0], [-300, 200, 0], [-300, -200, 0], [300, -200, 0]], float)
+    fp["CORNERS"]["value"] = corners.T.reshape(3, 4, 1)
+    fp["ORIGIN"]["value"] = np.array([[0.0], [0.0], [-40.0]])
+    fp["CHANNEL"]["value"] = np.arange(1, 7).reshape(6, 1)
+    fp["CAL_MATRIX"]["value"] = np.zeros((6, 6, 1))
+    c3d.write(str(path))
+    return pos_m
+
+
+def test_c3d_round_trip_in_metres(tmp_path: Path) -> None:
+    path = tmp_path / "walk.c3d"
+    expected = _write_synthetic(path)
+    data = read_c3d(path)
+    assert data.points.labels == ("HEEL", "TOE") and data.points.units == "mm"
+    assert data.points.rate == POINT_RATE and data.points.positions.shape == (N_FRAMES, 2, 3)
+    ok = np.ones((N_FRAMES, 2), bool)
+    ok[5, 1] = False
+    np.testing.assert_allclose(data.points.positions[ok], expected[ok], atol=1e-6)
+    assert np.isnan(data.points.positions[5, 1]).all()
+    speed = np.diff(data.points.marker("HEEL")[:, 0]) * data.points.rate
+    np.testing.assert_allclose(speed, 1.0, atol=1e-4)  # 1 m/s after mm -> m
+    assert data.first_frame == 1 and data.time[1] == pytest.approx(0.01)
+
+    assert data.analogs.rate == ANALOG_RATE and data.analogs.values.shape == (200, 6)
+    np.testing.assert_allclose(data.analogs.channel("Fz1"), -700.0)
+    assert data.analogs.units[3] == "Nmm"
+
+    (plate,) = data.platforms
+    assert plate.type == 2 and plate.force.shape == (200, 3)
+    np.testing.assert_allclose(np.abs(plate.force[0]), [0.0, 0.0, 700.0], atol=1e-9)
+    np.testing.assert_allclose(plate.corners[0], [0.3, 0.2, 0.0])  # metres
+    np.testing.assert_allclose(np.abs(plate.moment[0, :2]), [35.0, 70.0], rtol=1e-9)  # N m
+    assert np.all(np.abs(plate.cop[:, :2]) < 0.3)  # on the plate, in metres
+    assert np.linalg.norm(plate.cop[0, :2]) == pytest.approx(np.hypot(0.05, 0.1), abs=0.05)
+
+
+def test_c3d_without_platforms(tmp_path: Path) -> None:
+    path = tmp_path / "walk.c3d"
+    _write_synthetic(path)
+    assert read_c3d(path, force_platforms=False).platforms == ()
+
+
+@pytest.mark.parametrize("keep", [0.3, 0.7])
+def test_truncated_c3d(tmp_path: Path, keep: float) -> None:
+    path = tmp_path / "walk.c3d"
+    _write_synthetic(path)
+    blob = path.read_bytes()
+    cut = tmp_path / "cut.c3d"
+    cut.write_bytes(blob[: int(len(blob) * keep)])
+    with pytest.raises(DataFileError) as info:
+        read_c3d(cut)
+    assert str(info.value).startswith("cut.c3d: ") and "\n" not in str(info.value)
+
+
+def test_not_a_c3d(tmp_path: Path) -> None:
+    path = tmp_path / "text.c3d"
+    path.write_text("hello\n" * 200)
+    with pytest.raises(DataFileError, match=r"^text\.c3d: "):
+        read_c3d(path)
+    with pytest.raises(FileNotFoundError):
+        read_c3d(tmp_path / "missing.c3d")

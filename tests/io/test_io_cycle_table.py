@@ -1,0 +1,50 @@
+"""Cycle tables: Falisse et al. 2019 mean/SD and Winter's averages."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from walk3d import G
+from walk3d.io import DataFileError, read_cycle_table
+
+
+def test_falisse_cycle_table(falisse: Path) -> None:
+    table = read_cycle_table(falisse / "cycle_right_leg_mean_sd.csv")
+    assert table.mean.shape == (101, 35) and table.sd.shape == (101, 35)
+    np.testing.assert_array_equal(table.percent, np.arange(101.0))
+    assert (table.sd >= 0).all()
+    knee, knee_sd = table.column("knee_angle_deg")
+    assert table.units[table.index("knee_angle_deg")] == "deg"
+    assert knee.min() < -50.0 and 60 < np.argmin(knee) < 85  # swing flexion, negative
+    assert knee_sd.max() < 15.0
+    fy, _ = table.column("grf_right_vertical_N_per_kg")
+    toe_off = table.percent[np.argmax(fy < 20.0 / 62.0)]  # first unloaded sample
+    assert 58.0 < toe_off < 70.0  # stance about 65 % of the cycle
+    assert 1.0 < fy.max() / G < 1.3  # first peak above body weight
+
+
+def test_winter_table(data_dir: Path) -> None:
+    table = read_cycle_table(data_dir / "winter" / "Winter_normal.csv")
+    assert table.mean.shape == (51, 8) and np.isnan(table.sd).all()
+    np.testing.assert_allclose(table.percent, np.linspace(0, 100, 51))
+    assert float(table.metadata["Gait cycle duration"].split()[0]) == pytest.approx(1.1396)
+    knee, _ = table.column("knee_angle_deg")
+    assert knee.max() > 55.0  # Winter's sign: flexion positive
+    fy, _ = table.column("vertical_grf_N_per_kg")
+    assert fy.max() / G == pytest.approx(1.1, abs=0.15)
+
+
+def test_bad_cycle_table(tmp_path: Path, falisse: Path) -> None:
+    lines = (falisse / "cycle_right_leg_mean_sd.csv").read_text().splitlines()
+    corrupt = list(lines)
+    corrupt[5] = corrupt[5].replace(",", ",abc", 1)
+    path = tmp_path / "bad.csv"
+    path.write_text("\n".join(corrupt) + "\n")
+    with pytest.raises(DataFileError, match=r"^bad\.csv:6: value 'abc.*' in pelvis_tilt_deg_mean"):
+        read_cycle_table(path)
+    path.write_text("\n".join(lines[:50] + [lines[50][:40]]) + "\n")
+    with pytest.raises(DataFileError, match=r"^bad\.csv:51: expected 71 values"):
+        read_cycle_table(path)
