@@ -13,3 +13,10 @@ __version__ = "0.1.0"
 
 G = 9.81
 """Gravitational acceleration magnitude, m/s^2. Gravity is ``(0, -G, 0)`` in the global frame."""
+
+
+def load_result(out_dir):  # noqa: ANN001, ANN201 - thin lazy re-export
+    """Read a prediction folder written by ``walk3d predict`` (see :mod:`walk3d.results`)."""
+    from walk3d.results import load_result as _load
+
+    return _load(out_dir)

@@ -1,0 +1,246 @@
+"""The result of one walking prediction, and its result folder on disk.
+
+A :class:`Prediction` holds time series sampled at ``N`` nodes (time first, SI units, radians)
+and a JSON-ready ``summary`` dictionary. :func:`save_prediction` writes a result folder:
+
+* ``result.npz``: every array of :class:`Prediction` under its field name (``time``,
+  ``segment_names``, ``segment_mass``, ``segment_inertia``, ``segment_com_position``,
+  ``segment_orientation``, ``dof_names``, ``joint_angle``, ``joint_names``, ``joint_moment``,
+  ``joint_axis_active``, ``grf_force``, ``grf_cop``, ``grf_free_moment``, ``pelvis_position``),
+  names as unicode arrays (readable with ``allow_pickle=False``). The only unit change is
+  ``joint_angle``, stored in **degrees**; everything else is SI as in memory;
+* ``summary.json``: the summary, indented, keys sorted;
+* ``motion.mot``: OpenSim coordinates in degrees (:func:`walk3d.io.motion.write_motion`);
+* ``grf.mot`` and ``grf.xml``: ground reactions and their OpenSim ExternalLoads file
+  (:func:`walk3d.io.motion.write_grf`).
+
+Each file is written atomically (a temporary file in the same folder, then :func:`os.replace`).
+:func:`load_result` reads ``result.npz`` and ``summary.json`` back; all arrays come back
+bit-for-bit except ``joint_angle``, whose degree-radian round trip is exact to ~1 ulp.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import secrets
+from dataclasses import dataclass, field, fields
+from os import PathLike
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from walk3d.io._atomic import atomic_write_text
+from walk3d.io.errors import DataFileError
+
+__all__ = ["Prediction", "load_result", "save_prediction", "RESULT_FILES"]
+
+RESULT_FILES = ("result.npz", "summary.json", "motion.mot", "grf.mot", "grf.xml")
+"""The files :func:`save_prediction` writes into the result folder."""
+
+_NAME_FIELDS = ("segment_names", "dof_names", "joint_names")
+
+
+@dataclass(frozen=True, eq=False)
+class Prediction:
+    """A predicted walking cycle (read-only arrays, time first, SI units, radians).
+
+    Shapes use ``N`` time nodes, 13 segments, 24 DoF and 12 joints (the body model's orders,
+    see :mod:`walk3d.body.model`); only the consistency between fields is checked, so other
+    counts are accepted.
+    """
+
+    time: np.ndarray
+    """(N,) s."""
+    segment_names: tuple[str, ...]
+    segment_mass: np.ndarray
+    """(S,) kg."""
+    segment_inertia: np.ndarray
+    """(S, 3, 3) kg m², about the segment's centre of mass, in the segment frame."""
+    segment_com_position: np.ndarray
+    """(N, S, 3) m, global."""
+    segment_orientation: np.ndarray
+    """(N, S, 4) scalar-first unit quaternions, segment frame -> global."""
+    dof_names: tuple[str, ...]
+    joint_angle: np.ndarray
+    """(N, D) rad, one column per DoF."""
+    joint_names: tuple[str, ...]
+    joint_moment: np.ndarray
+    """(N, J, 3) N m on each joint's (x, y, z) axes (see ``Joint.axes``)."""
+    joint_axis_active: np.ndarray
+    """(J, 3) bool: which axis slots of each joint carry a DoF (the rest are constrained)."""
+    grf_force: np.ndarray
+    """(N, 2, 3) N on the [right, left] foot, global."""
+    grf_cop: np.ndarray
+    """(N, 2, 3) m centre of pressure, global; NaN where the foot is off the ground."""
+    grf_free_moment: np.ndarray
+    """(N, 2) N m about the vertical axis."""
+    pelvis_position: np.ndarray
+    """(N, 3) m: origin of the pelvis frame (midway between the hip joint centres), global."""
+    summary: dict[str, Any] = field(default_factory=dict)
+    """JSON-ready description of the run (inputs, convergence, criteria, ...)."""
+
+    def __post_init__(self) -> None:
+        for name in _NAME_FIELDS:
+            object.__setattr__(self, name, tuple(str(s) for s in getattr(self, name)))
+        n_seg, n_dof, n_joint = (len(self.segment_names), len(self.dof_names),
+                                 len(self.joint_names))  # fmt: skip
+        time = np.asarray(self.time, dtype=float).reshape(-1)
+        n = time.size
+        shapes = {
+            "time": (n,),
+            "segment_mass": (n_seg,),
+            "segment_inertia": (n_seg, 3, 3),
+            "segment_com_position": (n, n_seg, 3),
+            "segment_orientation": (n, n_seg, 4),
+            "joint_angle": (n, n_dof),
+            "joint_moment": (n, n_joint, 3),
+            "joint_axis_active": (n_joint, 3),
+            "grf_force": (n, 2, 3),
+            "grf_cop": (n, 2, 3),
+            "grf_free_moment": (n, 2),
+            "pelvis_position": (n, 3),
+        }
+        for name, shape in shapes.items():
+            dtype = bool if name == "joint_axis_active" else float
+            arr = np.array(time if name == "time" else getattr(self, name), dtype=dtype)
+            if arr.shape != shape:
+                raise ValueError(f"{name} must have shape {shape}, got {arr.shape}")
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+        if not isinstance(self.summary, dict):
+            raise TypeError(f"summary must be a dict, got {type(self.summary).__name__}")
+        object.__setattr__(self, "summary", dict(self.summary))
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of time nodes ``N``."""
+        return int(self.time.size)
+
+    @property
+    def body_mass(self) -> float:
+        """Total body mass, kg (sum of the segment masses)."""
+        return float(np.sum(self.segment_mass))
+
+    def dof(self, name: str) -> np.ndarray:
+        """Angle of one DoF over time, rad (``KeyError`` when absent)."""
+        try:
+            return self.joint_angle[:, self.dof_names.index(name)]
+        except ValueError:
+            raise KeyError(f"no DoF {name!r}") from None
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Prediction):
+            return NotImplemented
+        for f in fields(self):
+            a, b = getattr(self, f.name), getattr(other, f.name)
+            if isinstance(a, np.ndarray):
+                if not np.array_equal(a, b, equal_nan=a.dtype != bool):
+                    return False
+            elif a != b:
+                return False
+        return True
+
+    __hash__ = None  # type: ignore[assignment]
+
+
+def _atomic_write_bytes(path: Path, data: bytes) -> Path:
+    """Write ``data`` via a temporary file in the same folder and :func:`os.replace`."""
+    tmp = path.with_name(f".{path.name}.{secrets.token_hex(6)}.tmp")
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return path
+
+
+def _json_default(value: Any) -> Any:
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (Path, PathLike)):
+        return os.fspath(value)
+    raise TypeError(f"summary value of type {type(value).__name__} is not JSON serialisable")
+
+
+def _npz_arrays(pred: Prediction) -> dict[str, np.ndarray]:
+    arrays: dict[str, np.ndarray] = {}
+    for f in fields(pred):
+        if f.name == "summary":
+            continue
+        value = getattr(pred, f.name)
+        if f.name in _NAME_FIELDS:
+            arrays[f.name] = np.array(value, dtype=str)
+        elif f.name == "joint_angle":
+            arrays[f.name] = np.degrees(value)
+        else:
+            arrays[f.name] = np.asarray(value)
+    return arrays
+
+
+def save_prediction(pred: Prediction, out_dir: str | PathLike[str]) -> Path:
+    """Write the result folder of ``pred`` (see the module doc), creating it if needed.
+
+    Returns:
+        The result folder.
+    """
+    # imported here: walk3d.io.motion imports walk3d.results.angles (package cycle otherwise)
+    from walk3d.io.motion import write_grf, write_motion
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    buffer = io.BytesIO()
+    np.savez(buffer, **_npz_arrays(pred))
+    _atomic_write_bytes(out / "result.npz", buffer.getvalue())
+    text = json.dumps(pred.summary, indent=2, sort_keys=True, default=_json_default)
+    atomic_write_text(out / "summary.json", text + "\n")
+    write_motion(out / "motion.mot", pred)
+    write_grf(out / "grf.mot", pred, xml_path=out / "grf.xml")
+    return out
+
+
+def load_result(out_dir: str | PathLike[str]) -> Prediction:
+    """Read a result folder written by :func:`save_prediction` back into a :class:`Prediction`.
+
+    Raises:
+        FileNotFoundError: ``result.npz`` or ``summary.json`` is missing.
+        DataFileError: ``result.npz`` lacks an array or ``summary.json`` is not valid JSON.
+    """
+    out = Path(out_dir)
+    npz_path = out / "result.npz"
+    summary_path = out / "summary.json"
+    if not summary_path.is_file():
+        raise FileNotFoundError(f"no summary.json in {out}")
+    try:
+        summary = json.loads(summary_path.read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise DataFileError(summary_path, f"invalid JSON: {exc.msg}", exc.lineno) from None
+    if not isinstance(summary, dict):
+        raise DataFileError(summary_path, "the summary is not a JSON object")
+    values: dict[str, Any] = {"summary": summary}
+    with np.load(npz_path, allow_pickle=False) as data:
+        for f in fields(Prediction):
+            if f.name == "summary":
+                continue
+            if f.name not in data.files:
+                raise DataFileError(npz_path, f"missing array {f.name!r}")
+            arr = data[f.name]
+            if f.name in _NAME_FIELDS:
+                values[f.name] = tuple(str(s) for s in arr.tolist())
+            elif f.name == "joint_angle":
+                values[f.name] = np.radians(arr)
+            else:
+                values[f.name] = arr
+    try:
+        return Prediction(**values)
+    except ValueError as exc:
+        raise DataFileError(npz_path, str(exc)) from None

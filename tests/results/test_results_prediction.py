@@ -1,0 +1,234 @@
+"""Result folders: Prediction save/load round trip, OpenSim files and the summary figure."""
+
+import json
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from walk3d.body.model import JOINT_NAMES, SEGMENT_NAMES, build_body
+from walk3d.io.errors import DataFileError
+from walk3d.io.external_loads import extract_foot_loads, grf_column_names
+from walk3d.io.motion import OPENSIM_COORDINATES, write_motion
+from walk3d.io.storage import read_storage
+from walk3d.plots import summary_figure
+from walk3d.plots.summary import _title
+from walk3d.results import Prediction, load_result, pelvis_angles, save_prediction
+
+N = 21
+RAJAGOPAL = {
+    "hip_flexion_r", "hip_adduction_r", "hip_rotation_r", "knee_angle_r", "ankle_angle_r",
+    "subtalar_angle_r", "hip_flexion_l", "hip_adduction_l", "hip_rotation_l", "knee_angle_l",
+    "ankle_angle_l", "subtalar_angle_l", "lumbar_extension", "lumbar_bending", "lumbar_rotation",
+    "arm_flex_r", "arm_add_r", "arm_rot_r", "elbow_flex_r", "arm_flex_l", "arm_add_l",
+    "arm_rot_l", "elbow_flex_l",
+}  # fmt: skip
+
+
+def _unit_quaternions(rng: np.random.Generator, shape: tuple[int, ...]) -> np.ndarray:
+    q = rng.normal(size=shape + (4,))
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def make_prediction(seed: int = 0, summary: dict | None = None) -> Prediction:
+    rng = np.random.default_rng(seed)
+    body = build_body()
+    time = np.linspace(0.0, 1.1, N)
+    phase = 2 * np.pi * time / 1.1
+    n_dof = len(body.dof_names)
+    amp = rng.uniform(0.05, 0.6, n_dof)
+    shift = rng.uniform(0, 2 * np.pi, n_dof)
+    angle = amp * np.sin(phase[:, None] + shift)
+    active = np.zeros((12, 3), bool)
+    for j, joint in enumerate(body.joints):
+        active[j, list(joint.dof_slots)] = True
+    # right foot in stance for the first 60 %, left from 50 % on (wrapping): NaN COP in swing
+    stance = np.stack([phase < 0.6 * 2 * np.pi, phase >= 0.5 * 2 * np.pi], axis=1)
+    force = rng.normal(size=(N, 2, 3)) * [50.0, 300.0, 20.0]
+    force[..., 1] = np.abs(force[..., 1]) + 100.0
+    force[~stance] = 0.0
+    cop = rng.normal(size=(N, 2, 3)) * 0.1
+    cop[~stance] = np.nan
+    free = np.where(stance, rng.normal(size=(N, 2)), 0.0)
+    default_summary = {
+        "inputs": {"speed_m_s": 1.2, "period_s": 1.1, "double_support_s": 0.12},
+        "converged": True,
+        "status": "Solve_Succeeded",
+        "iterations": 57,
+        "wall_time_s": 12.5,
+        "objective": {
+            "C_tor": {"total": 0.0123, "x": 0.002, "y": 0.001, "z": 0.0093},
+            "C_en": {"total": 1.5, "x": 0.2, "y": 0.1, "z": 1.2},
+        },
+        "max_constraint_violation": 3.2e-9,
+        "double_support_contact_residual_m": None,
+        "stride_length_m": 1.32,
+        "seed": 4,
+    }
+    return Prediction(
+        time=time,
+        segment_names=SEGMENT_NAMES,
+        segment_mass=[s.mass for s in body.segments],
+        segment_inertia=[np.diag(s.inertia) for s in body.segments],
+        segment_com_position=rng.normal(size=(N, 13, 3)),
+        segment_orientation=_unit_quaternions(rng, (N, 13)),
+        dof_names=body.dof_names,
+        joint_angle=angle,
+        joint_names=JOINT_NAMES,
+        joint_moment=rng.normal(size=(N, 12, 3)) * 20 * active,
+        joint_axis_active=active,
+        grf_force=force,
+        grf_cop=cop,
+        grf_free_moment=free,
+        pelvis_position=np.column_stack([1.2 * time, 0.95 + 0.02 * np.sin(2 * phase), 0 * time]),
+        summary=default_summary if summary is None else summary,
+    )
+
+
+@pytest.fixture(scope="module")
+def saved(tmp_path_factory):
+    pred = make_prediction()
+    out = save_prediction(pred, tmp_path_factory.mktemp("run") / "nested" / "result")
+    return pred, out
+
+
+def test_prediction_is_read_only_and_checked():
+    pred = make_prediction()
+    with pytest.raises(ValueError):
+        pred.joint_angle[0, 0] = 1.0
+    with pytest.raises(AttributeError):
+        pred.time = np.zeros(N)  # type: ignore[misc]
+    assert pred.joint_axis_active.dtype == bool
+    assert pred.body_mass == pytest.approx(68.8, rel=1e-6)
+    with pytest.raises(ValueError, match="grf_cop"):
+        Prediction(**{**_fields(pred), "grf_cop": np.zeros((N, 2, 2))})
+
+
+def _fields(pred: Prediction) -> dict:
+    return {k: getattr(pred, k) for k in pred.__dataclass_fields__}
+
+
+def test_save_writes_all_files_without_temporaries(saved):
+    _, out = saved
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted(["result.npz", "summary.json", "motion.mot", "grf.mot", "grf.xml"])
+
+
+def test_load_round_trip(saved):
+    pred, out = saved
+    back = load_result(out)
+    for name, value in _fields(pred).items():
+        got = getattr(back, name)
+        if name == "joint_angle":
+            np.testing.assert_allclose(got, value, rtol=0, atol=1e-12)
+        elif isinstance(value, np.ndarray):
+            assert got.dtype == value.dtype, name
+            np.testing.assert_array_equal(got, value, err_msg=name)
+            assert not got.flags.writeable
+        else:
+            assert got == value, name
+    assert back.summary == pred.summary
+    assert np.isnan(back.grf_cop).any()
+
+
+def test_npz_keys_and_degrees(saved):
+    pred, out = saved
+    with np.load(out / "result.npz", allow_pickle=False) as data:
+        assert set(data.files) == set(_fields(pred)) - {"summary"}
+        np.testing.assert_allclose(data["joint_angle"], np.degrees(pred.joint_angle), rtol=1e-15)
+        assert tuple(data["dof_names"]) == pred.dof_names
+
+
+def test_summary_json_is_sorted_and_pretty(saved):
+    pred, out = saved
+    text = (out / "summary.json").read_text()
+    assert text.startswith("{\n  ")
+    assert json.loads(text) == pred.summary
+    top = [line.split('"')[1] for line in text.splitlines() if line.startswith('  "')]
+    assert top == sorted(pred.summary)
+
+
+def test_motion_file(saved):
+    pred, out = saved
+    st = read_storage(out / "motion.mot")
+    assert st.in_degrees is True
+    np.testing.assert_array_equal(st.time, pred.time)
+    assert st.columns[:6] == (
+        "pelvis_tilt", "pelvis_list", "pelvis_rotation", "pelvis_tx", "pelvis_ty", "pelvis_tz",
+    )  # fmt: skip
+    assert RAJAGOPAL <= set(st.columns)
+    assert "neck_flexion" in st.columns
+    assert "knee_flexion_r" not in st.columns
+    for k, dof in enumerate(pred.dof_names):
+        col = st.column(OPENSIM_COORDINATES[dof])
+        np.testing.assert_array_equal(col, np.degrees(pred.joint_angle[:, k]))
+    np.testing.assert_allclose(st.column("knee_angle_l"), np.degrees(pred.dof("knee_flexion_l")))
+    pelvis = np.degrees(pelvis_angles(pred.segment_orientation[:, 0]))
+    np.testing.assert_allclose(st.data[:, :3], pelvis)
+    np.testing.assert_array_equal(st.data[:, 3:6], pred.pelvis_position)
+
+
+def test_grf_files(saved):
+    pred, out = saved
+    st = read_storage(out / "grf.mot")
+    assert st.columns == grf_column_names("r") + grf_column_names("l")
+    np.testing.assert_array_equal(st.time, pred.time)
+    assert not np.isnan(st.data).any()
+    loads = extract_foot_loads(out / "grf.mot", out / "grf.xml")
+    np.testing.assert_array_equal(loads.right.force, pred.grf_force[:, 0])
+    np.testing.assert_array_equal(loads.left.force, pred.grf_force[:, 1])
+    stance = ~np.isnan(pred.grf_cop[:, 0, 0])
+    np.testing.assert_array_equal(loads.right.cop[stance], pred.grf_cop[stance, 0])
+    np.testing.assert_array_equal(loads.left.torque[:, 1], pred.grf_free_moment[:, 1])
+    root = ET.parse(out / "grf.xml").getroot()
+    assert root.find(".//datafile").text == "grf.mot"
+    bodies = sorted(e.text for e in root.iter("applied_to_body"))
+    assert bodies == ["calcn_l", "calcn_r"]
+
+
+def test_write_motion_standalone(tmp_path):
+    pred = make_prediction(seed=3)
+    path = write_motion(tmp_path / "m.mot", pred)
+    st = read_storage(path)
+    assert len(st.columns) == 6 + 24
+    np.testing.assert_array_equal(st.column("hip_flexion_r"), np.degrees(pred.dof("hip_flexion_r")))
+
+
+def test_load_errors(tmp_path, saved):
+    with pytest.raises(FileNotFoundError):
+        load_result(tmp_path)
+    _, out = saved
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    (bad / "summary.json").write_text("{not json")
+    with pytest.raises(DataFileError):
+        load_result(bad)
+    (bad / "summary.json").write_text("{}")
+    with np.load(out / "result.npz") as data:
+        arrays = {k: data[k] for k in data.files if k != "grf_cop"}
+    np.savez(bad / "result.npz", **arrays)
+    with pytest.raises(DataFileError, match="grf_cop"):
+        load_result(bad)
+
+
+def test_summary_figure_png(tmp_path):
+    summary = {"converged": False, "objective": {"C_tor": "n/a", "C_en": {"x": 1.0}}}
+    pred = make_prediction(seed=1, summary=summary)
+    path = summary_figure(pred, tmp_path / "figs" / "summary.png")
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    assert len(data) > 10_000
+    assert [p.name for p in path.parent.iterdir()] == ["summary.png"]
+
+
+def test_summary_title():
+    pred = make_prediction()
+    title = _title(pred.summary)
+    assert title.startswith("walk3d prediction: converged (Solve_Succeeded)")
+    assert "C_tor = 0.0123" in title and "C_en = 1.5" in title
+    assert "max violation 3.20e-09" in title
+    assert _title({"converged": False}) == "walk3d prediction: NOT CONVERGED"
+    assert "unknown" in _title({})
+    assert _title({"converged": False, "objective": {"C_tor": None}, "iterations": "x"}) == (
+        "walk3d prediction: NOT CONVERGED"
+    )
