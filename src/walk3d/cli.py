@@ -83,6 +83,66 @@ def body(
     console.print(j)
 
 
+@app.command()
+def predict(
+    out: Annotated[str, typer.Option("--out", help="Result folder (created).")],
+    speed: Annotated[float, typer.Option("--speed", help="Walking speed V, m/s.")] = 1.3806,
+    period: Annotated[float, typer.Option("--period", help="Gait-cycle period T, s.")] = 1.08,
+    double_support: Annotated[
+        float, typer.Option("--double-support", help="Double-support duration Td, s.")
+    ] = 0.16,
+    mass: Mass = 68.8,
+    height: Height = 1.77,
+    sex: Sex = "male",
+    criterion: Annotated[str, typer.Option("--criterion", help="tor or en.")] = "tor",
+    seed: Annotated[int, typer.Option("--seed", help="Random start.")] = 0,
+    solver: Annotated[str, typer.Option("--solver", help="ipopt or sqp.")] = "ipopt",
+    nodes: Annotated[int, typer.Option("--nodes", help="Time nodes per half cycle.")] = 20,
+) -> None:
+    """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot and
+    summary.png. Exit code 0 if the solve converged, 1 if not (results are still written and
+    labelled), 2 for bad input."""
+    from walk3d.problem.settings import PredictionSettings, first_error
+
+    if criterion not in ("tor", "en"):
+        fail(f"--criterion must be 'tor' or 'en', got {criterion!r}")
+    if solver not in ("ipopt", "sqp"):
+        fail(f"--solver must be 'ipopt' or 'sqp', got {solver!r}")
+    if seed < 0:
+        fail(f"--seed must be a non-negative integer, got {seed}")
+    try:
+        settings = PredictionSettings(
+            speed=speed, period=period, double_support=double_support, mass=mass,
+            height=height, sex=sex, criterion=criterion, nodes=nodes,
+        )  # fmt: skip
+    except ValueError as exc:
+        fail(first_error(exc))
+    from walk3d.predict import predict as run
+
+    with console.status("walk3d: starting") as status:
+        pred = run(settings, seed, solver, out_dir=out,
+                   on_stage=lambda msg: status.update(f"walk3d: {msg}"))  # fmt: skip
+    s = pred.summary
+    t = Table(title=f"walk3d predict -> {out}")
+    t.add_column("quantity")
+    t.add_column("value")
+    verdict = "yes" if s["converged"] else "NO - not a valid prediction"
+    t.add_row("converged", f"{verdict} ({s['status']}, {s['iterations']} iterations)")
+    t.add_row("wall time", f"{s['wall_time_s']:.1f} s")
+    for key in ("C_tor", "C_en"):
+        c = s["objective"][key]
+        t.add_row(key, f"{c['total']:.4g}  (x {c['x']:.3g}, y {c['y']:.3g}, z {c['z']:.3g})")
+    t.add_row(
+        "stride length", f"{s['stride_length_m']:.4f} m (target {s['stride_length_target_m']:.4f})"
+    )
+    t.add_row("step width", f"{s['step_width_m']:.3f} m")
+    t.add_row("contact residual", f"{1000 * s['double_support_contact_residual_m']:.3f} mm")
+    t.add_row("max constraint violation", f"{s['max_constraint_violation']:.2e}")
+    console.print(t)
+    if not s["converged"]:
+        raise typer.Exit(1)
+
+
 @app.callback()
 def _root() -> None:
     """Predict three-dimensional whole-body human walking."""

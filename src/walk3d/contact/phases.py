@@ -82,4 +82,4 @@ class GaitPhases:
         """Share of its heel-strike load still on the trailing (non-root) foot; 0 in swing."""
         tau = self.time_since_heel_strike(t)
         t_ds = self.double_support / 2
-        return np.where(tau <= self.double_support, np.exp(-((tau / t_ds) ** 3)), 0.0)
+        return np.where(tau <= self.double_support + 1e-12, np.exp(-((tau / t_ds) ** 3)), 0.0)

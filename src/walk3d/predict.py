@@ -1,0 +1,61 @@
+"""One prediction end to end: settings -> solve -> full-cycle evaluation -> result folder."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+from walk3d import __version__
+from walk3d.problem.settings import PredictionSettings
+from walk3d.results.evaluate import evaluate_cycle, make_prediction
+from walk3d.results.prediction import Prediction, save_prediction
+
+
+def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str) -> dict:
+    """The JSON summary of a prediction (SI units, criteria exact, smoothed for reference)."""
+    return {
+        "walk3d_version": __version__,
+        "inputs": settings.model_dump() | {"seed": seed, "solver": solver},
+        "seed": seed,
+        "converged": bool(outcome.converged),
+        "status": outcome.status,
+        "iterations": outcome.iterations,
+        "wall_time_s": round(outcome.wall_time_s, 3),
+        "stages": outcome.stages,
+        "objective": ev.criteria,
+        "objective_smoothed": ev.criteria_smoothed,
+        "max_constraint_violation": outcome.max_constraint_violation,
+        "double_support_contact_residual_m": ev.contact_residual_m,
+        "root_switch_continuity_residual_m": ev.continuity_residual_m,
+        "stride_length_m": ev.stride_length_m,
+        "stride_length_target_m": settings.stride_length,
+        "step_width_m": ev.step_width_m,
+    }
+
+
+def predict(
+    settings: PredictionSettings,
+    seed: int = 0,
+    solver: str = "ipopt",
+    out_dir: str | Path | None = None,
+    figure: bool = True,
+    on_stage: Callable[[str], None] | None = None,
+) -> Prediction:
+    """Predict one gait cycle; write the result folder when ``out_dir`` is given."""
+    from walk3d.solve import run_solver
+
+    outcome = run_solver(settings, seed, solver, on_stage=on_stage)
+    if on_stage:
+        on_stage("evaluating the cycle")
+    from walk3d.body.model import build_body
+
+    body = build_body(settings.mass, settings.height, settings.sex)
+    ev = evaluate_cycle(body, settings, outcome.x)
+    pred = make_prediction(ev.prediction_arrays, summarize(settings, seed, outcome, ev, solver))
+    if out_dir is not None:
+        save_prediction(pred, out_dir)
+        if figure:
+            from walk3d.plots import summary_figure
+
+            summary_figure(pred, Path(out_dir) / "summary.png")
+    return pred

@@ -1,0 +1,97 @@
+"""The decision vector: the one place that defines its order.
+
+``x = [c (15 × 11 Fourier coefficients, series-major), half_step_width]`` — 166 entries.
+
+The 15 series (paper section 2.5; one per independent quaternion element):
+
+====  ====================  ==============================================================
+ #    series                 quaternion element
+====  ====================  ==============================================================
+ 0    ``waist_x``            waist vector part along x (frontal); odd harmonics only
+ 1    ``waist_y``            waist vector part along y (transverse); odd harmonics only
+ 2    ``waist_z``            waist vector part along z (sagittal); even harmonics only
+ 3    ``neck``               sin(θ/2) of the neck hinge; even harmonics only
+ 4–6  ``shoulder_x/y/z``     right shoulder vector part
+ 7    ``elbow``              sin(θ/2), right elbow
+ 8–10 ``hip_x/y/z``          right hip vector part
+ 11   ``knee``               sin(θ/2), right knee
+ 12   ``ankle_tc``           sin(θ/2), right talocrural (dorsiflexion) axis
+ 13   ``ankle_st``           sin(θ/2), right subtalar (inversion) axis
+ 14   ``foot``               sin(θ_ft/2), right stance-foot rotation (used during stance only)
+====  ====================  ==============================================================
+
+Each series' 11 coefficients are ``[a0, a1, b1, …, a5, b5]`` (:mod:`walk3d.kinematics.fourier`).
+
+Left/right symmetry: the left side's series is the right side's shifted by half a cycle; the
+mirrored left joint axes (``walk3d.body.model``) make equal values mirror-image postures, so the
+frontal and transverse components flip sign in space and the sagittal one does not. The midline
+joints must then satisfy ``q(t + T/2) = mirror(q(t))``: their frontal/transverse elements hold
+only odd harmonics and their sagittal elements only even ones. Those coefficients stay in the
+vector (so the layout is the paper's 165) but are fixed at zero by their bounds.
+
+The extra scalar, ``half_step_width``, is the lateral distance of each foot's ankle from the
+line of progression at foot flat. The paper's closed double-support loop needs it (the trailing
+foot must land where the chain puts it); it is also a useful output.
+
+Coordinates: the 26 per-node coordinates are the 24 joint coordinates in
+:data:`walk3d.body.model.DOF_ORDER` order followed by the right and left stance-foot rotations.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from walk3d.kinematics import fourier
+
+SERIES_NAMES = (
+    "waist_x", "waist_y", "waist_z", "neck", "shoulder_x", "shoulder_y", "shoulder_z", "elbow",
+    "hip_x", "hip_y", "hip_z", "knee", "ankle_tc", "ankle_st", "foot",
+)  # fmt: skip
+N_SERIES = len(SERIES_NAMES)
+N_COEF = fourier.N_COEF
+N_X = N_SERIES * N_COEF + 1
+I_HALF_STEP = N_SERIES * N_COEF
+N_COORD = 26
+
+# coordinate index -> (series index, shifted by half a cycle?)
+COORD_SOURCE: tuple[tuple[int, bool], ...] = (
+    (0, False), (1, False), (2, False), (3, False),              # waist, neck
+    (4, False), (5, False), (6, False), (7, False),              # right arm
+    (4, True), (5, True), (6, True), (7, True),                  # left arm
+    (8, False), (9, False), (10, False), (11, False), (12, False), (13, False),  # right leg
+    (8, True), (9, True), (10, True), (11, True), (12, True), (13, True),        # left leg
+    (14, False), (14, True),                                      # feet
+)  # fmt: skip
+I_FOOT_R, I_FOOT_L = 24, 25
+PARITY = {0: "odd", 1: "odd", 2: "even", 3: "even"}
+
+
+def coefficients(x: np.ndarray) -> np.ndarray:
+    """(15, 11) coefficient matrix from the decision vector."""
+    return np.asarray(x[: N_SERIES * N_COEF]).reshape(N_SERIES, N_COEF)
+
+
+def fixed_zero_mask() -> np.ndarray:
+    """Boolean (N_X,) mask of coefficients fixed at zero by the midline symmetry."""
+    mask = np.zeros(N_X, dtype=bool)
+    for s, parity in PARITY.items():
+        other = "even" if parity == "odd" else "odd"
+        mask[s * N_COEF : (s + 1) * N_COEF] = fourier.harmonic_parity_mask(other)
+    return mask
+
+
+def coordinate_maps(t: np.ndarray, period: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Linear maps ``A0, A1, A2`` of shape (len(t), 26, N_X) with ``coords = A @ x``.
+
+    ``A0 @ x`` gives the 26 coordinates at each time, ``A1``, ``A2`` their time derivatives.
+    """
+    b = fourier.basis(t, period)
+    shift = fourier.half_cycle_shift()
+    maps = []
+    for bk in b:
+        a = np.zeros((len(t), N_COORD, N_X))
+        for i, (s, shifted) in enumerate(COORD_SOURCE):
+            block = bk @ shift if shifted else bk
+            a[:, i, s * N_COEF : (s + 1) * N_COEF] = block
+        maps.append(a)
+    return maps[0], maps[1], maps[2]

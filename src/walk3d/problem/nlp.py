@@ -1,0 +1,271 @@
+"""The optimization problem (paper section 2.5) in lifted form for CasADi.
+
+Decision variables of the NLP: ``z = [x (166, see layout), Y (N+1 nodes × 78), W0 (6)]``.
+
+* ``Y_k`` holds the 26 coordinates at node k with their first and second derivatives
+  (``[values, rates, accelerations]``), tied to the Fourier coefficients by the linear equalities
+  ``Y_k = A_k x`` ("lifted" form: the Hessian is block-diagonal per node).
+* ``W0`` is the total ground reaction at right heel strike (node 0), the trailing left foot's
+  initial load in double support, in units of body weight (moment about the left ankle, × 1 m).
+
+Nodes cover the half cycle in which the right foot is the root: ``t_k = t_hs_r + k T/(2N)``,
+``k = 0..N-1``. The closed loop in double support (the trailing left foot on its own roll-over
+path, half a stride behind) also joins the mirrored second half continuously: seen from the
+left foot, the same loop holds at the left heel strike. Symmetry makes the full-cycle criterion
+twice the half-cycle sum.
+
+Per-node constraints (rows of :func:`node_function`'s output ``g``; :data:`G_ROWS`) are bounded
+only at the nodes where they apply (double support, swing).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from walk3d import G
+from walk3d.body.model import BodyModel
+from walk3d.contact.phases import GaitPhases
+from walk3d.problem import layout
+from walk3d.problem.criteria import node_terms
+from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
+from walk3d.problem.settings import PredictionSettings
+
+N_Y = 3 * layout.N_COORD
+G_ROWS = {
+    "loop_position": slice(0, 3),
+    "loop_orientation": slice(3, 6),
+    "loop_velocity": slice(6, 9),
+    "loop_omega": slice(9, 12),
+    "other_points_y": slice(12, 16),
+    "ankle_separation": slice(16, 17),
+    "torso": slice(17, 20),
+    "root_force": slice(20, 25),
+    "other_force": slice(25, 30),
+    "hs_wrench": slice(30, 36),
+    "ball_norm": slice(36, 41),
+}
+N_G = 41
+BALL_NORM_MAX = 0.97
+EN_SCALE = 100.0  # C_en is divided by this in the solver's objective (J -> O(1))
+
+
+@dataclass(frozen=True)
+class Schedule:
+    """Node times and their phase in the half cycle with the right foot as root."""
+
+    times: np.ndarray
+    double_support: np.ndarray
+    swing: np.ndarray
+    decay: np.ndarray
+    anchor_other_x: np.ndarray
+    step: float
+
+    @property
+    def n(self) -> int:
+        return len(self.times)
+
+
+def schedule(settings: PredictionSettings) -> Schedule:
+    """Nodes ``t_k = t_hs_r + k T/(2N)``, ``k = 0..N-1``: the half cycle with the right root.
+
+    No node sits at the left heel strike: by symmetry its closed loop is the same condition as
+    the one at node 0 (the right heel strike seen from the other foot), and stating it twice
+    makes the constraints linearly dependent.
+    """
+    ph = GaitPhases(settings.period, settings.double_support)
+    n = settings.nodes
+    h = settings.period / (2 * n)
+    tau = np.arange(n) * h
+    ds = tau <= settings.double_support + 1e-9
+    half = settings.stride_length / 2
+    return Schedule(
+        times=ph.heel_strike_r + tau,
+        double_support=ds,
+        swing=~ds,
+        decay=np.where(ds, ph.trailing_decay(ph.heel_strike_r + tau), 0.0),
+        anchor_other_x=np.where(ds, -half, half),
+        step=h,
+    )
+
+
+def _unpack_coords(y, omega: float) -> list[tuple]:
+    n = layout.N_COORD
+    return [(y[i], omega * y[n + i], omega**2 * y[2 * n + i]) for i in range(n)]
+
+
+def state_at(
+    body: BodyModel, y, w0, hw, decay, anchor_x, omega: float, dynamics: bool = True
+) -> GaitState:
+    """:func:`evaluate` with the right foot as root (component inputs, any backend).
+
+    ``y`` holds values, rates / ω and accelerations / ω² (``ω = 2π/T``), so all 78 entries have
+    the size of the Fourier coefficients (better conditioning for the solver).
+    """
+    wf = body.mass * G
+    w0_wrench = (
+        (w0[0] * wf, w0[1] * wf, w0[2] * wf),
+        (w0[3] * wf, w0[4] * wf, w0[5] * wf),
+    )
+    return evaluate(
+        body,
+        _unpack_coords(y, omega),
+        "r",
+        (0.0, hw),
+        (anchor_x, -hw),
+        decay,
+        w0_wrench,
+        dynamics=dynamics,
+    )
+
+
+def node_outputs(body: BodyModel, settings: PredictionSettings, st: GaitState):
+    """Constraint rows (list of N_G) and objective terms ``[C_tor, C_en/EN_SCALE]`` per node."""
+    wf = body.mass * G
+    mu = settings.friction
+
+    def force_rows(w):
+        f = w[0]
+        return [f[1] / wf, (f[0] - mu * f[1]) / wf, (-f[0] - mu * f[1]) / wf,
+                (f[2] - mu * f[1]) / wf, (-f[2] - mu * f[1]) / wf]  # fmt: skip
+
+    q_torso = st.torso_orientation
+    ball = [j for j in body.joints if j.kind == "ball"]
+    y_norms = []
+    for j in ball:
+        lo = sum(jj.n_dof for jj in body.joints[: body.joints.index(j)])
+        y_norms.append(lo)
+    g = (
+        list(st.loop_position) + list(st.loop_orientation) + list(st.loop_velocity)
+        + list(st.loop_omega) + list(st.other_points_y)
+        + [st.ankle_z["l"] - st.ankle_z["r"]] + [q_torso[1], q_torso[2], q_torso[3]]
+        + force_rows(st.feet["r"]) + force_rows(st.feet["l"])
+        + [c / wf for c in st.hs_wrench[0]] + [c / wf for c in st.hs_wrench[1]]
+    )  # fmt: skip
+    moments, rates, _ = dof_moment_terms(body, st)
+    a, b = strength_weights(body)
+    tor, en = node_terms(moments, rates, a, b, settings.smoothing)
+    return g, [sum(tor), sum(en) / EN_SCALE], y_norms
+
+
+def node_function(
+    body: BodyModel, settings: PredictionSettings, dynamics: bool = True
+) -> ca.Function:
+    """``walk3d_node(y[78], w0[6], hw, p[2]) -> (g[41], f[2])`` in SX, ``p = [decay, anchor_x]``.
+
+    With ``dynamics=False`` (first stage) the objective terms are both the mean squared joint
+    coordinate rate, a smoothness measure that needs no inverse dynamics.
+    """
+    y = ca.SX.sym("y", N_Y)
+    w0 = ca.SX.sym("w0", 6)
+    hw = ca.SX.sym("hw")
+    p = ca.SX.sym("p", 2)
+    omega = 2 * np.pi / settings.period
+    yl, w0l = [y[i] for i in range(N_Y)], [w0[i] for i in range(6)]
+    st = state_at(body, yl, w0l, hw, p[0], p[1], omega, dynamics)
+    g, f, starts = node_outputs(body, settings, st)
+    if not dynamics:
+        n = layout.N_COORD
+        rate = sum(y[n + i] ** 2 for i in range(n)) / n
+        f = [rate, rate]
+    for s in starts:  # |vector part|² of each ball joint stays below 1
+        g.append(y[s] ** 2 + y[s + 1] ** 2 + y[s + 2] ** 2)
+    return ca.Function("walk3d_node", [y, w0, hw, p], [ca.vertcat(*g), ca.vertcat(*f)])
+
+
+@dataclass(frozen=True)
+class Bounds:
+    lbz: np.ndarray
+    ubz: np.ndarray
+    lbg: np.ndarray
+    ubg: np.ndarray
+
+
+def _coord_bounds(
+    body: BodyModel, settings: PredictionSettings, sch: Schedule
+) -> tuple[np.ndarray, np.ndarray]:
+    n_nodes = sch.n
+    lo = np.full((n_nodes, 3, layout.N_COORD), -np.inf)
+    hi = np.full((n_nodes, 3, layout.N_COORD), np.inf)
+    ranges = np.concatenate([j.range for j in body.joints])
+    lo[:, 0, :24] = np.sin(ranges[:, 0] / 2)
+    hi[:, 0, :24] = np.sin(ranges[:, 1] / 2)
+    s_up, s_down = np.sin(np.radians(40) / 2), np.sin(np.radians(-75) / 2)
+    r, lft = layout.I_FOOT_R, layout.I_FOOT_L
+    ds, sw = sch.double_support, sch.swing
+    # right foot (root): heel rocker in double support, flat in single stance
+    lo[ds, 0, r], hi[ds, 0, r] = 0.0, s_up
+    # (a 5th-order series cannot vanish over a whole interval: "flat" means within a tolerance)
+    flat = np.sin(settings.foot_flat_tolerance / 2)
+    lo[sw, 0, r], hi[sw, 0, r] = -flat, flat
+    # left foot: toe rocker while trailing, heel first at its strike, unused in swing
+    lo[ds, 0, lft], hi[ds, 0, lft] = s_down, 0.0
+    lo[sw, 0, lft], hi[sw, 0, lft] = s_down, s_up
+    return lo.reshape(n_nodes, -1), hi.reshape(n_nodes, -1)
+
+
+def bounds(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> Bounds:
+    n_nodes = sch.n
+    # x: symmetry-fixed coefficients, half step width
+    lbx = np.full(layout.N_X, -np.inf)
+    ubx = np.full(layout.N_X, np.inf)
+    fixed = layout.fixed_zero_mask()
+    lbx[fixed], ubx[fixed] = 0.0, 0.0
+    lbx[layout.I_HALF_STEP], ubx[layout.I_HALF_STEP] = 0.02, 0.25
+    ylo, yhi = _coord_bounds(body, settings, sch)
+    lbz = np.concatenate([lbx, ylo.ravel(), np.full(6, -np.inf)])
+    ubz = np.concatenate([ubx, yhi.ravel(), np.full(6, np.inf)])
+
+    glo = np.full((n_nodes, N_G), -np.inf)
+    ghi = np.full((n_nodes, N_G), np.inf)
+    R = G_ROWS
+    loop = np.r_[R["loop_position"], R["loop_orientation"]]
+    for k in range(n_nodes):
+        if sch.double_support[k]:
+            glo[k, loop], ghi[k, loop] = 0.0, 0.0
+        if sch.swing[k]:
+            glo[k, R["other_points_y"]] = 0.0
+        if sch.double_support[k]:
+            glo[k, R["other_force"].start] = 0.0
+            ghi[k, R["other_force"].start + 1 : R["other_force"].stop] = 0.0
+        ghi[k, R["ankle_separation"]] = -settings.min_ankle_separation
+        glo[k, R["torso"]] = np.sin(body.torso_range[:, 0] / 2)
+        ghi[k, R["torso"]] = np.sin(body.torso_range[:, 1] / 2)
+        glo[k, R["root_force"].start] = 0.0
+        ghi[k, R["root_force"].start + 1 : R["root_force"].stop] = 0.0
+        glo[k, R["ball_norm"]], ghi[k, R["ball_norm"]] = 0.0, BALL_NORM_MAX
+    n_lift = n_nodes * N_Y
+    lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6)])
+    ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6)])
+    return Bounds(lbz, ubz, lbg, ubg)
+
+
+def build_nlp(body: BodyModel, settings: PredictionSettings, node: ca.Function | None = None):
+    """Symbolic NLP dict ``{x, f, g}`` (MX calling the per-node SX function), its
+    :class:`Schedule` and the lifting maps ``(n_nodes, 78, N_X)``.
+
+    The node function is called once through ``map``, so derivatives are generated once per
+    node function and the compiled code stays small.
+    """
+    sch = schedule(settings)
+    node = node if node is not None else node_function(body, settings)
+    n_nodes = sch.n
+    a0, a1, a2 = layout.coordinate_maps(sch.times, settings.period)
+    omega = 2 * np.pi / settings.period
+    lift = np.concatenate([a0, a1 / omega, a2 / omega**2], axis=1)  # (n_nodes, 78, N_X)
+    x = ca.MX.sym("x", layout.N_X)
+    ys = ca.MX.sym("Y", N_Y, n_nodes)
+    w0 = ca.MX.sym("W0", 6)
+    hw = x[layout.I_HALF_STEP]
+    lift_mat = ca.sparsify(ca.DM(lift.reshape(-1, layout.N_X)))
+    g_lift = ca.vec(ys) - ca.mtimes(lift_mat, x)
+    params = ca.DM(np.stack([sch.decay, sch.anchor_other_x]))
+    gk, fk = node.map(n_nodes)(ys, ca.repmat(w0, 1, n_nodes), ca.repmat(hw, 1, n_nodes), params)
+    g_hs = gk[G_ROWS["hs_wrench"], 0] - w0
+    crit = 0 if settings.criterion == "tor" else 1
+    f = 2.0 * sch.step * ca.sum2(fk[crit, :])
+    z = ca.vertcat(x, ca.vec(ys), w0)
+    g = ca.vertcat(g_lift, ca.vec(gk), g_hs)
+    return {"x": z, "f": f, "g": g}, sch, lift

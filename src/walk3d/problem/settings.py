@@ -1,0 +1,87 @@
+"""Validated prediction settings (SI units; the CLI converts nothing but names)."""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, field_validator, model_validator
+
+
+class PredictionSettings(BaseModel):
+    """Inputs of one prediction. Defaults: the paper's subject, descriptors and C_tor.
+
+    ``nodes`` counts time nodes per half cycle: left/right symmetry means the other half is the
+    mirror image, so the criteria integrate over ``2 * nodes`` equally spaced instants.
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    speed: float = 1.3806
+    """Walking speed V, m/s."""
+    period: float = 1.08
+    """Gait-cycle period T, s."""
+    double_support: float = 0.16
+    """Duration of one double-support phase Td, s."""
+    mass: float = 68.8
+    height: float = 1.77
+    sex: Literal["male", "female"] = "male"
+    criterion: Literal["tor", "en"] = "tor"
+    nodes: int = 20
+    friction: float = 0.8
+    """Foot-floor friction coefficient for |Fx|/Fy and |Fz|/Fy (rubber sole on a lab floor)."""
+    min_ankle_separation: float = 0.06
+    """Minimum lateral distance between the ankle joint centres, m (feet must not cross)."""
+    foot_flat_tolerance: float = math.radians(3.0)
+    """Largest stance-foot rotation allowed in single stance, rad. The paper asks for exactly 0,
+    which a 5th-order Fourier series cannot hold over a whole interval without vanishing
+    everywhere; 3° is within the foot's measured sway in mid-stance."""
+    smoothing: float = 1e-3
+    """Relative width of the smooth |x| used by the solver (see :mod:`walk3d.problem.criteria`)."""
+    perturbation: float = 0.05
+    """Amplitude of the uniform random perturbation of the standing initial guess."""
+    max_iter: int = 1500
+    tol: float = 1e-6
+
+    @field_validator("*", mode="before")
+    @classmethod
+    def _finite(cls, v, info):
+        if isinstance(v, float) and not math.isfinite(v):
+            raise ValueError(f"{info.field_name} must be a finite number, got {v}")
+        return v
+
+    @model_validator(mode="after")
+    def _ranges(self) -> PredictionSettings:
+        checks = [
+            (0 < self.speed <= 4.0, f"speed must be in (0, 4] m/s, got {self.speed}"),
+            (0 < self.period <= 4.0, f"period must be in (0, 4] s, got {self.period}"),
+            (
+                0 < self.double_support < self.period / 2,
+                f"double-support duration must be in (0, T/2) = (0, {self.period / 2:g}) s, "
+                f"got {self.double_support}",
+            ),
+            (20 <= self.mass <= 250, f"body mass must be in [20, 250] kg, got {self.mass}"),
+            (1.0 <= self.height <= 2.4, f"height must be in [1.0, 2.4] m, got {self.height}"),
+            (6 <= self.nodes <= 200, f"nodes must be in [6, 200], got {self.nodes}"),
+            (0 < self.friction <= 2, f"friction must be in (0, 2], got {self.friction}"),
+            (0 < self.smoothing < 0.1, f"smoothing must be in (0, 0.1), got {self.smoothing}"),
+        ]
+        for ok, msg in checks:
+            if not ok:
+                raise ValueError(msg)
+        return self
+
+    @property
+    def stride_length(self) -> float:
+        return self.speed * self.period
+
+
+def first_error(exc: Exception) -> str:
+    """One-line message from a pydantic ValidationError (or any exception)."""
+    errors = getattr(exc, "errors", None)
+    if callable(errors):
+        e = errors()[0]
+        msg = str(e.get("msg", exc)).removeprefix("Value error, ")
+        loc = ".".join(str(p) for p in e.get("loc", ()))
+        return msg if not loc or loc in msg else f"{loc}: {msg}"
+    return " ".join(str(exc).split())

@@ -1,0 +1,202 @@
+"""From a solved decision vector to the full gait cycle (a :class:`Prediction`) and its checks.
+
+The solver only looks at the half cycle with the right foot as root; here the whole cycle is
+evaluated honestly with both roots (right from its heel strike to the left heel strike, left
+otherwise), so continuity at the root switches and the closed double-support loop are measured,
+not assumed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from walk3d.body.model import BodyModel
+from walk3d.contact.phases import GaitPhases
+from walk3d.contact.transition import centre_of_pressure
+from walk3d.kinematics import quaternion as qt
+from walk3d.kinematics.forward import point_triple, stack_q, stack_v
+from walk3d.problem import layout
+from walk3d.problem.criteria import node_terms, split_by_axis
+from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
+from walk3d.problem.settings import PredictionSettings
+from walk3d.results.angles import ball_joint_angles
+from walk3d.results.prediction import Prediction
+
+
+@dataclass(frozen=True)
+class CycleEvaluation:
+    prediction_arrays: dict
+    criteria: dict
+    criteria_smoothed: dict
+    contact_residual_m: float
+    continuity_residual_m: float
+    stride_length_m: float
+    step_width_m: float
+
+
+def _coords(x: np.ndarray, t: np.ndarray, period: float) -> list[tuple]:
+    a0, a1, a2 = layout.coordinate_maps(t, period)
+    c0, c1, c2 = a0 @ x, a1 @ x, a2 @ x
+    return [(c0[:, i], c1[:, i], c2[:, i]) for i in range(layout.N_COORD)]
+
+
+def _anchors(settings: PredictionSettings, ph: GaitPhases, t: np.ndarray, root: str, hw: float):
+    """Root and other-foot anchors (x, z) for times in one root block."""
+    half = settings.stride_length / 2
+    p = np.mod(t, settings.period)
+    if root == "r":
+        return (0.0 * p, hw + 0.0 * p), (-half + 0.0 * p, -hw + 0.0 * p)
+    # left root: its stance started at t_hs_l (anchor +half) or a cycle earlier (-half)
+    ax = np.where(p >= ph.heel_strike_l, half, -half)
+    return (ax, -hw + 0.0 * p), (0.0 * p + np.where(p >= ph.heel_strike_l, 0.0, -2 * half),
+                                 hw + 0.0 * p)  # fmt: skip
+
+
+def _state(body, settings, ph, x, t, root, w0=None, decay=None) -> GaitState:
+    hw = float(x[layout.I_HALF_STEP])
+    a_root, a_other = _anchors(settings, ph, t, root, hw)
+    d = ph.trailing_decay(t) if decay is None else decay
+    return evaluate(body, _coords(x, t, settings.period), root, a_root, a_other, d, w0)
+
+
+def _hs_wrench(body, settings, ph, x, t_hs, root):
+    st = _state(body, settings, ph, x, np.array([t_hs]), root, w0=None, decay=np.ones(1))
+    return tuple(tuple(float(c[0]) for c in v) for v in st.hs_wrench)
+
+
+def _ball_quaternion(joint, coords) -> np.ndarray:
+    v = sum(np.outer(coords[k][0], joint.axes[k]) for k in range(3))
+    w = np.sqrt(np.clip(1.0 - np.sum(v * v, axis=1), 0.0, None))
+    return np.column_stack([w, v])
+
+
+def _joint_angles(body: BodyModel, coords: list[tuple]) -> np.ndarray:
+    out, i = [], 0
+    for joint in body.joints:
+        c = coords[i : i + joint.n_dof]
+        if joint.kind == "ball":
+            out.append(ball_joint_angles(_ball_quaternion(joint, c), joint.side))
+        else:
+            out.append(np.column_stack([2 * np.arcsin(cc[0]) for cc in c]))
+        i += joint.n_dof
+    return np.concatenate(out, axis=1)
+
+
+def _contact_residual(body, st: GaitState, x, t, settings, ph, mask) -> float:
+    """Largest distance between the trailing foot's landmarks and their roll-over pose."""
+    if not np.any(mask):
+        return 0.0
+    from walk3d.kinematics.forward import root_foot_triples
+
+    other = "l" if st.root == "r" else "r"
+    i_other = body.segment_index(f"foot_{other}")
+    hw = float(x[layout.I_HALF_STEP])
+    _, a_other = _anchors(settings, ph, t, st.root, hw)
+    coords = _coords(x, t, settings.period)
+    s_other = coords[layout.I_FOOT_L if other == "l" else layout.I_FOOT_R]
+    q_exp, p_exp = root_foot_triples(body, other, s_other, a_other)
+    worst = 0.0
+    pts = np.vstack([np.zeros(3), body.foot.points(other)])
+    for p in pts:
+        chain = stack_v(point_triple(st.pose, i_other, p)[0])
+        expect = stack_v(qt.vadd(p_exp[0], qt.qrot(q_exp[0], tuple(p))))
+        worst = max(worst, float(np.max(np.linalg.norm(chain - expect, axis=1)[mask])))
+    return worst
+
+
+def evaluate_cycle(
+    body: BodyModel, settings: PredictionSettings, x: np.ndarray, n_samples: int = 101
+) -> CycleEvaluation:
+    """Evaluate the cycle at ``n_samples`` equally spaced times from 0 to T (inclusive)."""
+    ph = GaitPhases(settings.period, settings.double_support)
+    T = settings.period
+    t = np.linspace(0.0, T, n_samples)
+    right = ph.root_is_right(t)
+    blocks = {"r": np.flatnonzero(right), "l": np.flatnonzero(~right)}
+    w0 = {
+        "r": _hs_wrench(body, settings, ph, x, ph.heel_strike_r, "r"),
+        "l": _hs_wrench(body, settings, ph, x, ph.heel_strike_l, "l"),
+    }
+    n = len(t)
+    com = np.zeros((n, 13, 3))
+    ori = np.zeros((n, 13, 4))
+    pelvis = np.zeros((n, 3))
+    pelvis_vx = np.zeros(n)
+    moments = np.zeros((n, 12, 3))
+    force = np.zeros((n, 2, 3))
+    mom_o = np.zeros((n, 2, 3))
+    dof_m = np.zeros((n, 24))
+    dof_w = np.zeros((n, 24))
+    contact = 0.0
+    axes = None
+    for root, idx in blocks.items():
+        if idx.size == 0:
+            continue
+        tb = t[idx]
+        st = _state(body, settings, ph, x, tb, root, w0=w0[root])
+        for i in range(13):
+            com[idx, i] = stack_v(st.pose.com[i][0])
+            ori[idx, i] = stack_q(st.pose.orientation[i][0])
+        pelvis[idx] = stack_v(st.pose.origin[0][0])
+        pelvis_vx[idx] = st.pose.origin[0][1][0]
+        for j in range(12):
+            moments[idx, j] = stack_v(st.moments[j])
+        for k, side in enumerate(("r", "l")):
+            force[idx, k] = stack_v(st.feet[side][0])
+            mom_o[idx, k] = stack_v(st.feet[side][1])
+        m, w, axes = dof_moment_terms(body, st)
+        dof_m[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in m])
+        dof_w[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in w])
+        ds = ph.double_support_mask(tb) & (ph.time_since_heel_strike(tb) <= settings.double_support)
+        contact = max(contact, _contact_residual(body, st, x, tb, settings, ph, ds))
+    # continuity at the switch of root (left heel strike): pelvis from either root
+    t_sw = np.array([ph.heel_strike_l])
+    p_r = stack_v(_state(body, settings, ph, x, t_sw, "r", w0=w0["r"]).pose.origin[0][0])
+    p_l = stack_v(_state(body, settings, ph, x, t_sw, "l", w0=w0["l"]).pose.origin[0][0])
+    continuity = float(np.linalg.norm(p_r - p_l))
+    cop = np.zeros_like(force)
+    free = np.zeros((n, 2))
+    for k in range(2):
+        cop[:, k], free[:, k] = centre_of_pressure(force[:, k], mom_o[:, k], min_fy=1e-6)
+    a, b = strength_weights(body)
+    periodic = slice(0, n - 1)  # t = T repeats t = 0
+    dt = T / (n - 1)
+    crit = {}
+    for name, smooth in (("exact", None), ("smoothed", settings.smoothing)):
+        tor, en = node_terms(list(dof_m.T), list(dof_w.T), a, b, smooth)
+        tor_i = np.array([np.sum(v[periodic]) * dt for v in tor])
+        en_i = np.array([np.sum(v[periodic]) * dt for v in en])
+        crit[name] = {"C_tor": split_by_axis(tor_i, axes), "C_en": split_by_axis(en_i, axes)}
+    coords = _coords(x, t, T)
+    arrays = {
+        "time": t,
+        "segment_names": body.segment_names,
+        "segment_mass": np.array([s.mass for s in body.segments]),
+        "segment_inertia": np.array([np.diag(s.inertia) for s in body.segments]),
+        "segment_com_position": com,
+        "segment_orientation": ori,
+        "dof_names": body.dof_names,
+        "joint_angle": _joint_angles(body, coords),
+        "joint_names": tuple(j.name for j in body.joints),
+        "joint_moment": moments,
+        "joint_axis_active": np.array([[k in j.dof_slots for k in range(3)] for j in body.joints]),
+        "grf_force": force,
+        "grf_cop": cop,
+        "grf_free_moment": free,
+        "pelvis_position": pelvis,
+    }
+    return CycleEvaluation(
+        prediction_arrays=arrays,
+        criteria=crit["exact"],
+        criteria_smoothed=crit["smoothed"],
+        contact_residual_m=contact,
+        continuity_residual_m=continuity,
+        stride_length_m=float(np.sum(pelvis_vx[periodic]) * dt),
+        step_width_m=2 * float(x[layout.I_HALF_STEP]),
+    )
+
+
+def make_prediction(arrays: dict, summary: dict) -> Prediction:
+    return Prediction(**arrays, summary=summary)

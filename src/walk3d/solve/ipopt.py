@@ -1,0 +1,184 @@
+"""Solving the prediction NLP with CasADi + IPOPT (exact Hessian), in two stages.
+
+Stage 1 (kinematic) finds a walking posture sequence that satisfies every kinematic constraint
+(closed double-support loop, stride V·T, swing clearance, foot flat, ranges) while keeping joint
+rates small; it needs no inverse dynamics, so its derivatives are cheap. Stage 2 minimizes the
+chosen criterion under all constraints, started from stage 1. Both start from the paper's
+initial guess: upright standing (all coefficients zero) plus uniform random numbers drawn from
+the seed. No measured data enters.
+
+Solvers are built once per (body, settings) and kept in memory; see :mod:`walk3d.solve.cache`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import cache
+
+import casadi as ca
+import numpy as np
+
+from walk3d.body.model import BodyModel, build_body
+from walk3d.problem import layout, nlp
+from walk3d.problem.settings import PredictionSettings
+
+IPOPT_SUCCESS = {"Solve_Succeeded", "Solved_To_Acceptable_Level"}
+"""Return statuses counted as converged (IPOPT's, and sqpmethod's ``Solve_Succeeded``)."""
+
+
+@dataclass(frozen=True)
+class Solver:
+    """A built NLP: the CasADi solvers of both stages with their bounds and lifting maps."""
+
+    settings: PredictionSettings
+    body: BodyModel
+    kinematic: ca.Function
+    full: ca.Function
+    bounds: nlp.Bounds
+    lift: np.ndarray
+    schedule: nlp.Schedule
+    build_time_s: float
+
+
+@dataclass
+class SolveOutcome:
+    """What a solve returns; ``converged`` is IPOPT's own verdict on the final stage."""
+
+    x: np.ndarray
+    """Decision vector (166): coefficients and half step width (see layout)."""
+    z: np.ndarray
+    converged: bool
+    status: str
+    iterations: int
+    wall_time_s: float
+    stages: list[dict] = field(default_factory=list)
+    solver: str = "ipopt"
+    max_constraint_violation: float = float("nan")
+
+
+def _ipopt_options(settings: PredictionSettings, max_iter: int) -> dict:
+    return {
+        "print_time": False,
+        "ipopt.print_level": 0,
+        "ipopt.sb": "yes",
+        "ipopt.max_iter": max_iter,
+        "ipopt.tol": settings.tol,
+        "ipopt.acceptable_iter": 0,
+        "ipopt.mu_strategy": "adaptive",
+        "ipopt.linear_solver": "mumps",
+    }
+
+
+def _settings_key(settings: PredictionSettings) -> PredictionSettings:
+    # the criterion is part of the NLP; nothing seed-like is stored in settings
+    return settings
+
+
+@cache
+def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
+    t0 = time.perf_counter()
+    body = build_body(settings.mass, settings.height, settings.sex)
+    kin_prob, sch, lift = nlp.build_nlp(body, settings, nlp.node_function(body, settings, False))
+    full_prob, _, _ = nlp.build_nlp(body, settings, nlp.node_function(body, settings, True))
+    if method == "ipopt":
+        opts = _ipopt_options(settings, settings.max_iter)
+        kin = ca.nlpsol("walk3d_kin", "ipopt", kin_prob, opts)
+        full = ca.nlpsol("walk3d_full", "ipopt", full_prob, opts)
+    else:
+        opts = _sqp_options(settings)
+        kin = ca.nlpsol("walk3d_kin", "sqpmethod", kin_prob, opts)
+        full = ca.nlpsol("walk3d_full", "sqpmethod", full_prob, opts)
+    return Solver(settings, body, kin, full, nlp.bounds(body, settings, sch), lift, sch,
+                  time.perf_counter() - t0)  # fmt: skip
+
+
+def _sqp_options(settings: PredictionSettings) -> dict:
+    """CasADi ``sqpmethod`` (the paper used MATLAB's SQP) with the qrqp QP solver."""
+    return {
+        "qpsol": "qrqp",
+        "qpsol_options": {"print_iter": False, "print_header": False, "error_on_fail": False},
+        "max_iter": settings.max_iter,
+        "tol_pr": settings.tol,
+        "tol_du": settings.tol,
+        "print_header": False,
+        "print_iteration": False,
+        "print_status": False,
+        "print_time": False,
+        "error_on_fail": False,
+    }
+
+
+def build_solver(settings: PredictionSettings, method: str = "ipopt") -> Solver:
+    """The solver for these settings (built on first use, then reused in this process)."""
+    return _build(_settings_key(settings), method)
+
+
+def initial_guess(solver: Solver, seed: int) -> np.ndarray:
+    """Upright standing plus uniform noise: the NLP start vector ``z`` for ``seed``."""
+    s = solver.settings
+    rng = np.random.default_rng(seed)
+    x0 = np.zeros(layout.N_X)
+    x0[: layout.I_HALF_STEP] = rng.uniform(-s.perturbation, s.perturbation, layout.I_HALF_STEP)
+    x0[layout.fixed_zero_mask()] = 0.0
+    x0[layout.I_HALF_STEP] = 0.08
+    return _z_from_x(solver, x0, np.array([0.0, 1.0, 0.0, 0.0, 0.0, 0.0]))
+
+
+def _z_from_x(solver: Solver, x: np.ndarray, w0: np.ndarray) -> np.ndarray:
+    y = np.einsum("kij,j->ki", solver.lift, x)
+    z = np.concatenate([x, y.ravel(), w0])
+    return np.clip(z, solver.bounds.lbz, solver.bounds.ubz)
+
+
+def _run(fn: ca.Function, solver: Solver, z0: np.ndarray, name: str):
+    b = solver.bounds
+    t0 = time.perf_counter()
+    sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
+    stats = fn.stats()
+    g = np.array(sol["g"]).ravel()
+    viol = float(max(np.max(b.lbg - g, initial=0.0), np.max(g - b.ubg, initial=0.0)))
+    zz = np.array(sol["x"]).ravel()
+    viol = max(viol, float(np.max(b.lbz - zz, initial=0.0)), float(np.max(zz - b.ubz, initial=0.0)))
+    info = {
+        "max_constraint_violation": viol,
+        "stage": name,
+        "status": stats["return_status"],
+        "iterations": int(stats["iter_count"]),
+        "wall_time_s": time.perf_counter() - t0,
+        "objective": float(sol["f"]),
+    }
+    return np.array(sol["x"]).ravel(), info
+
+
+def solve(
+    settings: PredictionSettings,
+    seed: int = 0,
+    method: str = "ipopt",
+    on_stage: Callable[[str], None] | None = None,
+) -> SolveOutcome:
+    """Predict one gait cycle from the standing start of ``seed``.
+
+    ``converged`` is True only when the final (full) stage reports success.
+    """
+    note = on_stage or (lambda _msg: None)
+    note("building the model")
+    solver = build_solver(settings, method)
+    t0 = time.perf_counter()
+    note("stage 1/2: kinematic walking posture")
+    z, info1 = _run(solver.kinematic, solver, initial_guess(solver, seed), "kinematic")
+    z[-6:] = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+    note(f"stage 2/2: minimizing C_{settings.criterion}")
+    z, info2 = _run(solver.full, solver, z, "full")
+    return SolveOutcome(
+        x=z[: layout.N_X].copy(),
+        z=z,
+        converged=info2["status"] in IPOPT_SUCCESS,
+        status=info2["status"],
+        iterations=info1["iterations"] + info2["iterations"],
+        wall_time_s=time.perf_counter() - t0,
+        stages=[info1, info2],
+        solver=method,
+        max_constraint_violation=info2["max_constraint_violation"],
+    )

@@ -1,0 +1,59 @@
+"""The NLP's per-node CasADi function is the same physics as the NumPy path."""
+
+import numpy as np
+import pytest
+
+from walk3d import G
+from walk3d.body.model import build_body
+from walk3d.kinematics.forward import stack_v
+from walk3d.problem import layout, nlp
+from walk3d.problem.settings import PredictionSettings
+
+
+@pytest.fixture(scope="module")
+def setup():
+    s = PredictionSettings(nodes=8)
+    body = build_body()
+    return s, body, nlp.node_function(body, s)
+
+
+def _random_node(seed):
+    rng = np.random.default_rng(seed)
+    y = rng.uniform(-0.1, 0.1, nlp.N_Y)
+    w0 = np.array([0.05, 1.0, 0.01, 0.02, 0.01, 0.03])
+    return y, w0, 0.07, np.array([0.6, -0.7])
+
+
+def test_symbolic_node_function_matches_numpy_evaluation(setup):
+    s, body, fn = setup
+    y, w0, hw, p = _random_node(1)
+    g, f = (np.array(v).ravel() for v in fn(y, w0, hw, p))
+    omega = 2 * np.pi / s.period
+    st = nlp.state_at(body, [np.array([v]) for v in y], [np.array([v]) for v in w0], hw,
+                      p[0], p[1], omega)  # fmt: skip
+    g_np, f_np, starts = nlp.node_outputs(body, s, st)
+    g_np = [float(np.squeeze(v)) for v in g_np]
+    np.testing.assert_allclose(g[: len(g_np)], g_np, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(f, [float(np.squeeze(v)) for v in f_np], rtol=1e-10)
+    assert len(g) == nlp.N_G
+    # the split: the trailing foot carries decay * W0, the root the rest of the total
+    wf = body.mass * G
+    fl = stack_v(st.feet["l"][0])[0]
+    np.testing.assert_allclose(fl, p[0] * w0[:3] * wf, rtol=1e-12)
+    tot = stack_v(st.total[0])[0]
+    np.testing.assert_allclose(stack_v(st.feet["r"][0])[0] + fl, tot, rtol=1e-12)
+
+
+def test_bounds_and_variables_have_matching_sizes(setup):
+    s, body, _ = setup
+    prob, sch, lift = nlp.build_nlp(body, s)
+    b = nlp.bounds(body, s, sch)
+    assert prob["x"].shape[0] == b.lbz.size == layout.N_X + sch.n * nlp.N_Y + 6
+    assert prob["g"].shape[0] == b.lbg.size
+    assert np.all(b.lbz <= b.ubz) and np.all(b.lbg <= b.ubg)
+    # double support comes first, then swing; the loop is enforced only in double support
+    assert sch.double_support[0] and not sch.double_support[-1]
+    rows = nlp.G_ROWS["loop_position"]
+    g_node = b.lbg[sch.n * nlp.N_Y : -6].reshape(sch.n, nlp.N_G)
+    assert np.all(g_node[sch.double_support, rows] == 0)
+    assert np.all(np.isinf(g_node[sch.swing, rows]))
