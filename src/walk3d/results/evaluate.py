@@ -45,7 +45,8 @@ def _coords(x: np.ndarray, t: np.ndarray, period: float) -> list[tuple]:
 def _anchors(settings: PredictionSettings, ph: GaitPhases, t: np.ndarray, root: str, hw: float):
     """Root and other-foot anchors (x, z) for times in one root block."""
     half = settings.stride_length / 2
-    p = np.mod(t, settings.period)
+    # times run over [0, T] (not wrapped) so that t = T continues the last stance
+    p = np.asarray(t, dtype=float)
     if root == "r":
         return (0.0 * p, hw + 0.0 * p), (-half + 0.0 * p, -hw + 0.0 * p)
     # left root: its stance started at t_hs_l (anchor +half) or a cycle earlier (-half)

@@ -1,0 +1,120 @@
+"""Paper-style baseline for benchmarks only: SciPy SLSQP with finite-difference gradients.
+
+The paper solved its 165-coefficient problem with MATLAB's SQP and finite differences. This
+baseline does the same on walk3d's problem in its dense form (coefficients only, no lifted node
+variables): the same node function, the same bounds, the same two stages and the same start.
+It exists to measure the speed-up of the default solver, not to be used for predictions.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from scipy.optimize import minimize
+
+from walk3d.problem import layout, nlp
+from walk3d.problem.settings import PredictionSettings
+from walk3d.solve.ipopt import SolveOutcome, build_solver, initial_guess
+
+
+class _Dense:
+    """Objective and constraints as plain functions of x (166) for one stage."""
+
+    def __init__(self, settings: PredictionSettings, dynamics: bool):
+        sv = build_solver(settings)
+        self.sv = sv
+        node = nlp.node_function(sv.body, settings, dynamics)
+        self.n = sv.schedule.n
+        self.fn = node.map(self.n)
+        self.params = np.stack([sv.schedule.decay, sv.schedule.anchor_other_x])
+        self.crit = 0 if settings.criterion == "tor" else 1
+        self.step = sv.schedule.step
+        b = sv.bounds
+        n_lift = self.n * nlp.N_Y
+        self.lbg = b.lbg[n_lift:-6]
+        self.ubg = b.ubg[n_lift:-6]
+        self.lbx = b.lbz[: layout.N_X]
+        self.ubx = b.ubz[: layout.N_X]
+        self.lby = b.lbz[layout.N_X : layout.N_X + n_lift]
+        self.uby = b.ubz[layout.N_X : layout.N_X + n_lift]
+        self.lift = sv.lift.reshape(-1, layout.N_X)
+        self.evals = 0
+
+    def _eval(self, x: np.ndarray):
+        self.evals += 1
+        y = (self.lift @ x[: layout.N_X]).reshape(self.n, nlp.N_Y).T
+        w0 = np.tile(x[layout.N_X :][:, None], (1, self.n))
+        g, f = self.fn(y, w0, np.full((1, self.n), x[layout.I_HALF_STEP]), self.params)
+        g, f = np.array(g), np.array(f)
+        hs = g[nlp.G_ROWS["hs_wrench"], 0] - x[layout.N_X :]
+        return g.T.ravel(), 2.0 * self.step * float(np.sum(f[self.crit])), hs, y.T.ravel()
+
+    def objective(self, x):
+        return self._eval(x)[1]
+
+    def constraints(self, x):
+        """(equalities, inequalities >= 0) from the bounded rows and the lifted bounds."""
+        g, _, hs, y = self._eval(x)
+        eq = np.isfinite(self.lbg) & (self.lbg == self.ubg)
+        lo = np.isfinite(self.lbg) & ~eq
+        hi = np.isfinite(self.ubg) & ~eq
+        yeq = np.isfinite(self.lby) & (self.lby == self.uby)
+        ylo = np.isfinite(self.lby) & ~yeq
+        yhi = np.isfinite(self.uby) & ~yeq
+        e = np.concatenate([g[eq] - self.lbg[eq], hs, y[yeq] - self.lby[yeq]])
+        i = np.concatenate([g[lo] - self.lbg[lo], self.ubg[hi] - g[hi], y[ylo] - self.lby[ylo],
+                            self.uby[yhi] - y[yhi]])  # fmt: skip
+        return e, i
+
+
+def slsqp_solve(
+    settings: PredictionSettings, seed: int = 0, max_iter: int = 200, time_limit_s: float = 600.0
+) -> SolveOutcome:
+    """Two-stage SLSQP (finite differences) from the same start as the default solver."""
+    t0 = time.perf_counter()
+    sv = build_solver(settings)
+    z0 = initial_guess(sv, seed)
+    x = np.concatenate([z0[: layout.N_X], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]])
+    status, iters, stages = "not run", 0, []
+    for dynamics in (False, True):
+        prob = _Dense(settings, dynamics)
+        bounds = [
+            (None if not np.isfinite(lo) else lo, None if not np.isfinite(hi) else hi)
+            for lo, hi in zip(np.r_[prob.lbx, np.full(6, -np.inf)],
+                              np.r_[prob.ubx, np.full(6, np.inf)], strict=True)
+        ]  # fmt: skip
+        deadline = t0 + time_limit_s
+
+        def cb(_xk, deadline=deadline):
+            if time.perf_counter() > deadline:
+                raise TimeoutError
+
+        cons = [
+            {"type": "eq", "fun": lambda v, p=prob: p.constraints(v)[0]},
+            {"type": "ineq", "fun": lambda v, p=prob: p.constraints(v)[1]},
+        ]
+        try:
+            res = minimize(prob.objective, x, method="SLSQP", bounds=bounds, constraints=cons,
+                           callback=cb, options={"maxiter": max_iter, "ftol": 1e-6})  # fmt: skip
+            x, status, nit = res.x, ("Solve_Succeeded" if res.success else res.message), res.nit
+        except TimeoutError:
+            status, nit = "time limit reached", -1
+        iters += max(nit, 0)
+        stages.append({"stage": "full" if dynamics else "kinematic", "status": status,
+                       "function_evaluations": prob.evals})  # fmt: skip
+        if status != "Solve_Succeeded":
+            break
+    return SolveOutcome(
+        x=x[: layout.N_X].copy(),
+        z=x,
+        converged=status == "Solve_Succeeded",
+        status=str(status),
+        iterations=iters,
+        wall_time_s=time.perf_counter() - t0,
+        stages=stages,
+        solver="slsqp-fd",
+    )
+
+
+__all__ = ["slsqp_solve"]

@@ -1,0 +1,33 @@
+"""walk3d predict: bad input is one line and exit code 2 (no solve is started)."""
+
+import subprocess
+import sys
+
+import pytest
+
+BAD = [
+    (["--speed", "0"], "speed"),
+    (["--speed", "-1.2"], "speed"),
+    (["--period", "0"], "period"),
+    (["--period", "-1"], "period"),
+    (["--double-support", "0"], "double-support"),
+    (["--double-support", "-0.1"], "double-support"),
+    (["--double-support", "0.54"], "T/2"),
+    (["--speed", "nan"], "finite"),
+    (["--mass", "3"], "mass"),
+    (["--height", "4"], "height"),
+    (["--criterion", "fun"], "criterion"),
+    (["--solver", "magic"], "solver"),
+    (["--speed", "fast"], "speed"),
+]
+
+
+@pytest.mark.parametrize("args,word", BAD)
+def test_bad_input_exits_2_with_one_line(tmp_path, args, word):
+    cmd = [sys.executable, "-m", "walk3d.cli", "predict", "--out", str(tmp_path / "o"), *args]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and word in lines[0], r.stderr
+    assert "Traceback" not in r.stderr
+    assert not (tmp_path / "o").exists()
