@@ -57,3 +57,28 @@ def test_bounds_and_variables_have_matching_sizes(setup):
     g_node = b.lbg[sch.n * nlp.N_Y : -6].reshape(sch.n, nlp.N_G)
     assert np.all(g_node[sch.double_support, rows] == 0)
     assert np.all(np.isinf(g_node[sch.swing, rows]))
+
+
+def test_structured_derivatives_equal_casadis_own(setup):
+    import casadi as ca
+
+    _, body, _ = setup
+    s = PredictionSettings(nodes=6)
+    prob, _, _ = nlp.build_nlp(body, s, True, derivatives=True)
+    d = prob.pop("derivatives")
+    ref = ca.nlpsol("ref", "ipopt", prob, {"print_time": False, "ipopt.print_level": 0})
+    rng = np.random.default_rng(0)
+    z = rng.uniform(-0.05, 0.05, prob["x"].shape[0])
+    z[-6:] = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+    z[layout.I_HALF_STEP] = 0.08
+    lam_g = rng.normal(size=prob["g"].shape[0])
+    h_ref = np.array(ref.get_function("nlp_hess_l")(z, [], 0.7, lam_g))
+    h = np.array(d["hess_lag"](z, [], 0.7, lam_g))
+    assert np.max(np.abs(h - h_ref)) < 1e-10 * np.max(np.abs(h_ref))
+    _, j_ref = ref.get_function("nlp_jac_g")(z, [])
+    g, j = d["jac_g"](z, [])
+    np.testing.assert_allclose(np.array(j), np.array(j_ref), atol=1e-12)
+    f_ref, gf_ref = ref.get_function("nlp_grad_f")(z, [])
+    f, gf = d["grad_f"](z, [])
+    np.testing.assert_allclose(float(f), float(f_ref), rtol=1e-13)
+    np.testing.assert_allclose(np.array(gf), np.array(gf_ref), atol=1e-12)

@@ -151,12 +151,14 @@ def node_outputs(body: BodyModel, settings: PredictionSettings, st: GaitState):
 
 
 def node_function(
-    body: BodyModel, settings: PredictionSettings, dynamics: bool = True
+    body: BodyModel, settings: PredictionSettings, dynamics: bool = True, with_hs: bool = True
 ) -> ca.Function:
     """``walk3d_node(y[78], w0[6], hw, p[2]) -> (g[41], f[2])`` in SX, ``p = [decay, anchor_x]``.
 
     With ``dynamics=False`` (first stage) the objective terms are both the mean squared joint
-    coordinate rate, a smoothness measure that needs no inverse dynamics.
+    coordinate rate, a smoothness measure that needs no inverse dynamics. With
+    ``with_hs=False`` the heel-strike wrench rows are constant zeros: only node 0 needs them,
+    and leaving them out elsewhere removes a fifth of the Hessian's cost.
     """
     y = ca.SX.sym("y", N_Y)
     w0 = ca.SX.sym("w0", 6)
@@ -170,6 +172,8 @@ def node_function(
         n = layout.N_COORD
         rate = sum(y[n + i] ** 2 for i in range(n)) / n
         f = [rate, rate]
+    if not with_hs:
+        g[G_ROWS["hs_wrench"]] = [0.0] * 6
     for s in starts:  # |vector part|² of each ball joint stays below 1
         g.append(y[s] ** 2 + y[s + 1] ** 2 + y[s + 2] ** 2)
     return ca.Function("walk3d_node", [y, w0, hw, p], [ca.vertcat(*g), ca.vertcat(*f)])
@@ -233,8 +237,9 @@ def bounds(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> Boun
         ghi[k, R["ankle_separation"]] = -settings.min_ankle_separation
         glo[k, R["torso"]] = np.sin(body.torso_range[:, 0] / 2)
         ghi[k, R["torso"]] = np.sin(body.torso_range[:, 1] / 2)
-        glo[k, R["root_force"].start] = 0.0
-        ghi[k, R["root_force"].start + 1 : R["root_force"].stop] = 0.0
+        if k > 0:  # at heel strike (node 0) the root foot is unloaded by construction
+            glo[k, R["root_force"].start] = 0.0
+            ghi[k, R["root_force"].start + 1 : R["root_force"].stop] = 0.0
         glo[k, R["ball_norm"]], ghi[k, R["ball_norm"]] = 0.0, BALL_NORM_MAX
     n_lift = n_nodes * N_Y
     lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6)])
@@ -242,15 +247,20 @@ def bounds(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> Boun
     return Bounds(lbz, ubz, lbg, ubg)
 
 
-def build_nlp(body: BodyModel, settings: PredictionSettings, node: ca.Function | None = None):
+def build_nlp(
+    body: BodyModel, settings: PredictionSettings, dynamics: bool = True, derivatives: bool = False
+):
     """Symbolic NLP dict ``{x, f, g}`` (MX calling the per-node SX function), its
-    :class:`Schedule` and the lifting maps ``(n_nodes, 78, N_X)``.
+    :class:`Schedule` and the lifting maps ``(n_nodes, 78, N_X)``. With ``derivatives`` the dict
+    also carries ``derivatives``: structured ``grad_f``, ``jac_g``, ``hess_lag`` functions
+    (:mod:`walk3d.problem.derivatives`).
 
     The node function is called once through ``map``, so derivatives are generated once per
     node function and the compiled code stays small.
     """
     sch = schedule(settings)
-    node = node if node is not None else node_function(body, settings)
+    node0 = node_function(body, settings, dynamics, with_hs=True)
+    node = node_function(body, settings, dynamics, with_hs=False)
     n_nodes = sch.n
     a0, a1, a2 = layout.coordinate_maps(sch.times, settings.period)
     omega = 2 * np.pi / settings.period
@@ -262,10 +272,20 @@ def build_nlp(body: BodyModel, settings: PredictionSettings, node: ca.Function |
     lift_mat = ca.sparsify(ca.DM(lift.reshape(-1, layout.N_X)))
     g_lift = ca.vec(ys) - ca.mtimes(lift_mat, x)
     params = ca.DM(np.stack([sch.decay, sch.anchor_other_x]))
-    gk, fk = node.map(n_nodes)(ys, ca.repmat(w0, 1, n_nodes), ca.repmat(hw, 1, n_nodes), params)
-    g_hs = gk[G_ROWS["hs_wrench"], 0] - w0
+    g0, f0 = node0(ys[:, 0], w0, hw, params[:, 0])
+    rest = n_nodes - 1
+    gr, fr = node.map(rest)(ys[:, 1:], ca.repmat(w0, 1, rest), ca.repmat(hw, 1, rest),
+                            params[:, 1:])  # fmt: skip
+    gk, fk = ca.horzcat(g0, gr), ca.horzcat(f0, fr)
+    g_hs = g0[G_ROWS["hs_wrench"]] - w0
     crit = 0 if settings.criterion == "tor" else 1
     f = 2.0 * sch.step * ca.sum2(fk[crit, :])
     z = ca.vertcat(x, ca.vec(ys), w0)
     g = ca.vertcat(g_lift, ca.vec(gk), g_hs)
-    return {"x": z, "f": f, "g": g}, sch, lift
+    prob = {"x": z, "f": f, "g": g}
+    if derivatives:
+        from walk3d.problem.derivatives import derivative_functions
+
+        prob["derivatives"] = derivative_functions(node0, node, lift, np.array(params), sch.step,
+                                                   crit)  # fmt: skip
+    return prob, sch, lift
