@@ -54,7 +54,8 @@ def test_bounds_and_variables_have_matching_sizes(setup):
     # double support comes first, then swing; the loop is enforced only in double support
     assert sch.double_support[0] and not sch.double_support[-1]
     rows = nlp.G_ROWS["loop_position"]
-    g_node = b.lbg[sch.n * nlp.N_Y : -6].reshape(sch.n, nlp.N_G)
+    n_lift = sch.n * nlp.N_Y
+    g_node = b.lbg[n_lift : n_lift + sch.n * nlp.N_G].reshape(sch.n, nlp.N_G)
     assert np.all(g_node[sch.double_support, rows] == 0)
     assert np.all(np.isinf(g_node[sch.swing, rows]))
 

@@ -55,6 +55,7 @@ def derivative_functions(
     params: np.ndarray,
     step: float,
     crit: int,
+    range_mat: np.ndarray,
 ) -> dict[str, ca.Function]:
     """``grad_f``, ``jac_g`` and ``hess_lag`` for :func:`walk3d.problem.nlp.build_nlp`'s NLP."""
     n = lift.shape[0]
@@ -62,7 +63,7 @@ def derivative_functions(
     z = ca.MX.sym("z", n_z)
     p = ca.MX.sym("p", 0)
     lam_f = ca.MX.sym("lam_f")
-    n_g = n * N_Y + n * N_G + 6
+    n_g = n * N_Y + n * N_G + 6 + range_mat.shape[0]
     lam_g = ca.MX.sym("lam_g", n_g)
     j0, h0 = _node_derivatives(node0, crit)
     jn, hn = _node_derivatives(node, crit)
@@ -78,7 +79,8 @@ def derivative_functions(
     ys = z[layout.N_X : layout.N_X + n * N_Y]
     w0 = z[layout.N_X + n * N_Y :]
     hs = G_ROWS["hs_wrench"]
-    g = ca.vertcat(ys - ca.mtimes(lift_mat, x), g0, ca.vec(gr), g0[hs] - w0)
+    r_mat = ca.sparsify(ca.DM(range_mat))
+    g = ca.vertcat(ys - ca.mtimes(lift_mat, x), g0, ca.vec(gr), g0[hs] - w0, ca.mtimes(r_mat, x))
     f = 2.0 * step * (f0 + ca.sum2(fr))
     eye_y = ca.DM.eye(n * N_Y)
     j_lift = ca.horzcat(-lift_mat, eye_y, ca.DM(n * N_Y, 6))
@@ -87,7 +89,8 @@ def derivative_functions(
     w0_cols = [layout.N_X + n * N_Y + i for i in range(6)]
     w0_sel = ca.DM(ca.Sparsity.triplet(6, n_z, list(range(6)), w0_cols), 1.0)
     j_hs = ca.mtimes(J0[hs.start : hs.stop, :], places[0]) - w0_sel
-    jac = ca.vertcat(j_lift, *j_rows, j_hs)
+    j_range = ca.horzcat(r_mat, ca.DM(range_mat.shape[0], n * N_Y + 6))
+    jac = ca.vertcat(j_lift, *j_rows, j_hs, j_range)
     grad = ca.mtimes(places[0].T, gf0)
     for k in range(n - 1):
         grad += ca.mtimes(places[k + 1].T, gfr[:, k])
@@ -95,7 +98,7 @@ def derivative_functions(
     # second derivatives: node multipliers (node 0 also carries the heel-strike rows)
     off = n * N_Y
     lam_nodes = ca.reshape(lam_g[off : off + n * N_G], N_G, n)
-    lam_hs = lam_g[off + n * N_G :]
+    lam_hs = lam_g[off + n * N_G : off + n * N_G + 6]
     lam0 = lam_nodes[:, 0] + ca.vertcat(ca.MX(hs.start, 1), lam_hs, ca.MX(N_G - hs.stop, 1))
     sf = 2.0 * step * lam_f
     H0 = h0(v[0], ca.DM(params[:, 0]), sf, lam0)

@@ -91,6 +91,28 @@ def schedule(settings: PredictionSettings) -> Schedule:
     )
 
 
+RANGE_OVERSAMPLING = 4
+
+
+def range_rows(body: BodyModel, settings: PredictionSettings) -> tuple[np.ndarray, ...]:
+    """Joint-range constraints on a grid 4× finer than the nodes: ``(R, lo, hi)``, ``R @ x``.
+
+    Joint coordinates are linear in the coefficients, so these rows cost nothing to evaluate or
+    differentiate, and they keep the series inside the anatomical ranges *between* nodes too
+    (with ranges enforced at the nodes only, the optimizer found gaits swinging far outside them
+    in between).
+    """
+    ph = GaitPhases(settings.period, settings.double_support)
+    m = RANGE_OVERSAMPLING * settings.nodes
+    t = ph.heel_strike_r + np.arange(m) * settings.period / (2 * m)
+    a0, _, _ = layout.coordinate_maps(t, settings.period)
+    ranges = np.concatenate([j.range for j in body.joints])
+    R = a0[:, :24, :].reshape(-1, layout.N_X)
+    lo = np.tile(np.sin(ranges[:, 0] / 2), m)
+    hi = np.tile(np.sin(ranges[:, 1] / 2), m)
+    return R, lo, hi
+
+
 def _unpack_coords(y, omega: float) -> list[tuple]:
     n = layout.N_COORD
     return [(y[i], omega * y[n + i], omega**2 * y[2 * n + i]) for i in range(n)]
@@ -242,8 +264,9 @@ def bounds(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> Boun
             ghi[k, R["root_force"].start + 1 : R["root_force"].stop] = 0.0
         glo[k, R["ball_norm"]], ghi[k, R["ball_norm"]] = 0.0, BALL_NORM_MAX
     n_lift = n_nodes * N_Y
-    lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6)])
-    ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6)])
+    _, rlo, rhi = range_rows(body, settings)
+    lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo])
+    ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6), rhi])
     return Bounds(lbz, ubz, lbg, ubg)
 
 
@@ -281,11 +304,13 @@ def build_nlp(
     crit = 0 if settings.criterion == "tor" else 1
     f = 2.0 * sch.step * ca.sum2(fk[crit, :])
     z = ca.vertcat(x, ca.vec(ys), w0)
-    g = ca.vertcat(g_lift, ca.vec(gk), g_hs)
+    range_mat = ca.sparsify(ca.DM(range_rows(body, settings)[0]))
+    g = ca.vertcat(g_lift, ca.vec(gk), g_hs, ca.mtimes(range_mat, x))
     prob = {"x": z, "f": f, "g": g}
     if derivatives:
         from walk3d.problem.derivatives import derivative_functions
 
-        prob["derivatives"] = derivative_functions(node0, node, lift, np.array(params), sch.step,
-                                                   crit)  # fmt: skip
+        prob["derivatives"] = derivative_functions(
+            node0, node, lift, np.array(params), sch.step, crit, range_rows(body, settings)[0]
+        )
     return prob, sch, lift

@@ -32,8 +32,11 @@ class _Dense:
         self.step = sv.schedule.step
         b = sv.bounds
         n_lift = self.n * nlp.N_Y
-        self.lbg = b.lbg[n_lift:-6]
-        self.ubg = b.ubg[n_lift:-6]
+        n_node = self.n * nlp.N_G
+        self.range_mat = nlp.range_rows(sv.body, settings)[0]
+        # node rows, then the linear joint-range rows (the 6 heel-strike rows are equalities)
+        self.lbg = np.r_[b.lbg[n_lift : n_lift + n_node], b.lbg[n_lift + n_node + 6 :]]
+        self.ubg = np.r_[b.ubg[n_lift : n_lift + n_node], b.ubg[n_lift + n_node + 6 :]]
         self.lbx = b.lbz[: layout.N_X]
         self.ubx = b.ubz[: layout.N_X]
         self.lby = b.lbz[layout.N_X : layout.N_X + n_lift]
@@ -48,7 +51,8 @@ class _Dense:
         g, f = self.fn(y, w0, np.full((1, self.n), x[layout.I_HALF_STEP]), self.params)
         g, f = np.array(g), np.array(f)
         hs = g[nlp.G_ROWS["hs_wrench"], 0] - x[layout.N_X :]
-        return g.T.ravel(), 2.0 * self.step * float(np.sum(f[self.crit])), hs, y.T.ravel()
+        g = np.r_[g.T.ravel(), self.range_mat @ x[: layout.N_X]]
+        return g, 2.0 * self.step * float(np.sum(f[self.crit])), hs, y.T.ravel()
 
     def objective(self, x):
         return self._eval(x)[1]

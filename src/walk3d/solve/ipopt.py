@@ -65,7 +65,6 @@ def _ipopt_options(settings: PredictionSettings, max_iter: int) -> dict:
         "ipopt.sb": "yes",
         "ipopt.max_iter": max_iter,
         "ipopt.tol": settings.tol,
-        "ipopt.acceptable_iter": 0,
         "ipopt.mu_strategy": "adaptive",
         "ipopt.linear_solver": "mumps",
         # QAMD ordering: 7x faster factorizations than MUMPS's automatic choice on this KKT
