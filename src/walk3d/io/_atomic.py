@@ -1,13 +1,42 @@
-"""Atomic text-file writing shared by the walk3d writers."""
+"""Atomic file writing shared by every walk3d writer (text, bytes, or a writer callback)."""
 
 from __future__ import annotations
 
 import os
 import secrets
+from collections.abc import Callable
 from os import PathLike
 from pathlib import Path
+from typing import IO
 
-__all__ = ["atomic_write_text"]
+__all__ = ["atomic_write", "atomic_write_bytes", "atomic_write_text"]
+
+
+def atomic_write(path: str | PathLike[str], write: Callable[[IO[bytes]], object]) -> Path:
+    """Call ``write(handle)`` on a temporary file next to ``path``, then move it over ``path``.
+
+    The temporary file is flushed and synced before :func:`os.replace` (atomic on POSIX and
+    Windows on one file system); on any failure it is removed and an existing ``path`` is left
+    untouched. Returns the destination path.
+    """
+    target = Path(path)
+    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp")
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            write(handle)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(tmp, target)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return target
+
+
+def atomic_write_bytes(path: str | PathLike[str], data: bytes) -> Path:
+    """Write ``data`` atomically (see :func:`atomic_write`)."""
+    return atomic_write(path, lambda handle: handle.write(data))
 
 
 def atomic_write_text(path: str | PathLike[str], text: str) -> Path:
@@ -22,16 +51,4 @@ def atomic_write_text(path: str | PathLike[str], text: str) -> Path:
     Returns:
         The destination path.
     """
-    target = Path(path)
-    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp")
-    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
-            handle.write(text)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, target)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return target
+    return atomic_write_bytes(path, text.encode("utf-8"))

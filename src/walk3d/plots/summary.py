@@ -7,8 +7,6 @@ Matplotlib backend is selected or changed and no display is needed.
 from __future__ import annotations
 
 import math
-import os
-import secrets
 from collections.abc import Mapping, Sequence
 from os import PathLike
 from pathlib import Path
@@ -17,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from walk3d import G
+from walk3d.io._atomic import atomic_write
 from walk3d.results.angles import pelvis_angles
 
 if TYPE_CHECKING:
@@ -182,14 +181,4 @@ def summary_figure(
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
     fig = _draw(pred, figsize, dpi)
-    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp")
-    try:
-        with open(tmp, "xb") as handle:
-            fig.savefig(handle, format="png")
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, target)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return target
+    return atomic_write(target, lambda handle: fig.savefig(handle, format="png"))

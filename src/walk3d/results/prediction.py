@@ -24,7 +24,6 @@ from __future__ import annotations
 import io
 import json
 import os
-import secrets
 from dataclasses import dataclass, field, fields
 from os import PathLike
 from pathlib import Path
@@ -32,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io._atomic import atomic_write_bytes, atomic_write_text
 from walk3d.io.errors import DataFileError
 
 __all__ = ["Prediction", "load_result", "save_prediction", "RESULT_FILES"]
@@ -146,22 +145,6 @@ class Prediction:
     __hash__ = None  # type: ignore[assignment]
 
 
-def _atomic_write_bytes(path: Path, data: bytes) -> Path:
-    """Write ``data`` via a temporary file in the same folder and :func:`os.replace`."""
-    tmp = path.with_name(f".{path.name}.{secrets.token_hex(6)}.tmp")
-    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return path
-
-
 def _json_default(value: Any) -> Any:
     if isinstance(value, np.generic):
         return value.item()
@@ -200,7 +183,7 @@ def save_prediction(pred: Prediction, out_dir: str | PathLike[str]) -> Path:
     out.mkdir(parents=True, exist_ok=True)
     buffer = io.BytesIO()
     np.savez(buffer, **_npz_arrays(pred))
-    _atomic_write_bytes(out / "result.npz", buffer.getvalue())
+    atomic_write_bytes(out / "result.npz", buffer.getvalue())
     text = json.dumps(pred.summary, indent=2, sort_keys=True, default=_json_default)
     atomic_write_text(out / "summary.json", text + "\n")
     write_motion(out / "motion.mot", pred)
