@@ -143,6 +143,81 @@ def predict(
         raise typer.Exit(1)
 
 
+@app.command()
+def campaign(
+    starts: Annotated[int, typer.Option("--starts", help="Number of random starts.")],
+    out: Annotated[str, typer.Option("--out", help="Campaign folder (created or resumed).")],
+    criterion: Annotated[str, typer.Option("--criterion", help="tor or en.")] = "tor",
+    seed: Annotated[int, typer.Option("--seed", help="Base seed: start k uses seed+k.")] = 0,
+    workers: Annotated[
+        int | None, typer.Option("--workers", help="Local worker processes (default: cores).")
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            help="Address of a running Dask scheduler (its workers must see --out).",
+        ),
+    ] = None,
+    speed: Annotated[float, typer.Option("--speed", help="Walking speed V, m/s.")] = 1.3806,
+    period: Annotated[float, typer.Option("--period", help="Gait-cycle period T, s.")] = 1.08,
+    double_support: Annotated[
+        float, typer.Option("--double-support", help="Double-support duration Td, s.")
+    ] = 0.16,
+    mass: Mass = 68.8,
+    height: Height = 1.77,
+    sex: Sex = "male",
+    solver: Annotated[str, typer.Option("--solver", help="ipopt or sqp.")] = "ipopt",
+    nodes: Annotated[int, typer.Option("--nodes", help="Time nodes per half cycle.")] = 20,
+    max_iter: Annotated[
+        int, typer.Option("--max-iter", help="Advanced: solver iteration limit per stage.")
+    ] = 1500,
+) -> None:
+    """Run N random starts in parallel (Dask) and rank them. Each finished start is stored
+    at once in DIR/starts/seed_<seed>/ (a walk3d predict folder plus record.json); rerunning
+    the same command resumes (a larger --starts adds starts). Writes DIR/ranking.csv and
+    DIR/best/. Exit code 0 if a start converged, 1 if none did, 2 for bad input."""
+    from walk3d.problem.settings import PredictionSettings, first_error
+
+    if starts < 1:
+        fail(f"--starts must be a positive integer, got {starts}")
+    if criterion not in ("tor", "en"):
+        fail(f"--criterion must be 'tor' or 'en', got {criterion!r}")
+    if solver not in ("ipopt", "sqp"):
+        fail(f"--solver must be 'ipopt' or 'sqp', got {solver!r}")
+    if seed < 0:
+        fail(f"--seed must be a non-negative integer, got {seed}")
+    if workers is not None and workers < 1:
+        fail(f"--workers must be a positive integer, got {workers}")
+    if max_iter < 1:
+        fail(f"--max-iter must be a positive integer, got {max_iter}")
+    try:
+        settings = PredictionSettings(
+            speed=speed, period=period, double_support=double_support, mass=mass,
+            height=height, sex=sex, criterion=criterion, nodes=nodes, max_iter=max_iter,
+        )  # fmt: skip
+    except ValueError as exc:
+        fail(first_error(exc))
+    from walk3d.campaign import CampaignMismatch, run_campaign
+    from walk3d.campaign.ranking import top_table
+
+    try:
+        report = run_campaign(settings, starts, seed, out, workers=workers, scheduler=scheduler,
+                              solver=solver, console=console)  # fmt: skip
+    except CampaignMismatch as exc:
+        fail(" ".join(str(exc).split()))
+    console.print(top_table(report.rows, criterion))
+    console.print(
+        f"{len(report.rows)} starts in {out}: {report.converged} converged, "
+        f"{report.errors} errors; this run {report.ran}, resumed {report.skipped} "
+        f"({report.wall_time_s:.1f} s); ranking in {out}/ranking.csv"
+    )
+    if report.best_seed is None:
+        console.print("no start converged: no best/ folder was written")
+        raise typer.Exit(1)
+    console.print(f"best converged start: seed {report.best_seed}, copied to {out}/best/")
+
+
 @app.callback()
 def _root() -> None:
     """Predict three-dimensional whole-body human walking."""

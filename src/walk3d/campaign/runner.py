@@ -1,0 +1,232 @@
+"""Running a multi-start campaign on a Dask distributed cluster.
+
+Start ``k`` (``0 <= k < starts``) uses seed ``base_seed + k``, so any start can be re-run alone
+with ``walk3d predict --seed``. Each start is one Dask task (:func:`walk3d.campaign.task.
+run_start`) submitted with plain data; tasks run in long-lived worker processes, each of which
+builds the compiled model once. Without a scheduler address a :class:`distributed.LocalCluster`
+is started with one single-threaded worker process per core (at most one per pending start).
+
+Call :func:`run_campaign` from code guarded by ``if __name__ == "__main__"``: worker processes
+are spawned, and spawning re-imports the main module.
+
+With a scheduler address the workers are whatever that cluster runs: they need walk3d installed,
+must see the campaign folder at the same absolute path (they write the results), and should be
+started with ``OPENBLAS_NUM_THREADS=1`` (set here only for local workers).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import time
+import uuid
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from rich.console import Console
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
+
+from walk3d.campaign import ranking, store, task
+from walk3d.problem.settings import PredictionSettings
+
+if TYPE_CHECKING:
+    from distributed import Client
+
+__all__ = ["CampaignReport", "run_campaign"]
+
+WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
+@dataclass
+class CampaignReport:
+    """What a campaign run did and what the folder now holds."""
+
+    out_dir: Path
+    criterion: str
+    starts: int
+    base_seed: int
+    ran: int
+    """Starts run by this call (finished, failed or errored)."""
+    skipped: int
+    """Requested starts already finished before this call (resume)."""
+    rows: list[dict] = field(default_factory=list)
+    """Ranking of every start in the folder, best first (see :mod:`walk3d.campaign.ranking`)."""
+    best_seed: int | None = None
+    wall_time_s: float = 0.0
+    removed_temporaries: int = 0
+
+    @property
+    def converged(self) -> int:
+        """Number of converged starts in the folder."""
+        return sum(1 for r in self.rows if r["converged"])
+
+    @property
+    def errors(self) -> int:
+        """Number of starts that raised or whose worker died."""
+        return sum(1 for r in self.rows if r["status"].startswith("error:"))
+
+    @property
+    def any_converged(self) -> bool:
+        return self.best_seed is not None
+
+
+@contextlib.contextmanager
+def _client(workers: int | None, scheduler: str | None, pending: int) -> Iterator[Client]:
+    """A Dask client: to ``scheduler`` if given, else to a fresh local process cluster."""
+    import dask
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        with Client(scheduler) as client:
+            yield client
+        return
+    for key, value in WORKER_ENV.items():
+        os.environ[key] = value  # inherited by the spawned worker processes
+    n = max(1, min(workers or os.cpu_count() or 1, pending))
+    # a task that kills its worker is retried once, then recorded as an error
+    with (
+        dask.config.set({"distributed.scheduler.allowed-failures": 1}),
+        LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=logging.ERROR,
+            env=dict(WORKER_ENV),
+        ) as cluster,
+        Client(cluster) as client,
+    ):
+        yield client
+
+
+def _progress(console: Console | None, enabled: bool) -> Progress:
+    return Progress(
+        TextColumn("[bold]walk3d campaign"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("{task.fields[note]}"),
+        TimeElapsedColumn(),
+        TextColumn("remaining"),
+        TimeRemainingColumn(),
+        console=console,
+        disable=not enabled,
+    )
+
+
+def _note(records: dict[int, dict], criterion: str) -> str:
+    values = [
+        r["criterion_value"]
+        for r in records.values()
+        if r.get("converged") and isinstance(r.get("criterion_value"), (int, float))
+    ]
+    best = f"{min(values):.4g}" if values else "-"
+    errors = sum(1 for r in records.values() if str(r.get("status", "")).startswith("error:"))
+    text = f"converged {len(values)}  best C_{criterion} {best}"
+    return text + (f"  errors {errors}" if errors else "")
+
+
+def _validate(starts: int, base_seed: int, workers: int | None, solver: str) -> None:
+    from walk3d.solve import SOLVERS
+
+    if isinstance(starts, bool) or not isinstance(starts, int) or starts < 1:
+        raise ValueError(f"starts must be a positive integer, got {starts!r}")
+    if isinstance(base_seed, bool) or not isinstance(base_seed, int) or base_seed < 0:
+        raise ValueError(f"seed must be a non-negative integer, got {base_seed!r}")
+    if workers is not None and (not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"workers must be a positive integer, got {workers!r}")
+    if solver not in SOLVERS:
+        raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
+
+
+def run_campaign(
+    settings: PredictionSettings,
+    starts: int,
+    base_seed: int,
+    out_dir: str | Path,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    solver: str = "ipopt",
+    progress: bool = True,
+    console: Console | None = None,
+) -> CampaignReport:
+    """Run (or resume) the campaign of ``starts`` random starts in ``out_dir``.
+
+    Finished starts already in ``out_dir`` are skipped. Every start that finishes is written at
+    once, atomically; failed solves, exceptions and dead workers are recorded, never fatal.
+    Finally ``ranking.csv`` and ``best/`` are written for every start in the folder.
+
+    Raises:
+        ValueError: invalid ``starts``, ``base_seed``, ``workers`` or ``solver``.
+        walk3d.campaign.store.CampaignMismatch: ``out_dir`` holds a different campaign.
+    """
+    _validate(starts, base_seed, workers, solver)
+    t0 = time.perf_counter()
+    out = Path(out_dir)
+    store.open_campaign(out, settings, base_seed, starts, solver)
+    removed = store.clean_temporaries(out)
+    records = store.finished_records(out, repair=True)
+    seeds = [base_seed + k for k in range(starts)]
+    pending = [s for s in seeds if s not in records]
+    criterion = settings.criterion
+    with _progress(console, progress) as bar:
+        job = bar.add_task("starts", total=starts, completed=starts - len(pending),
+                           note=_note(records, criterion))  # fmt: skip
+
+        def advance() -> None:
+            bar.update(job, advance=1, note=_note(records, criterion))
+
+        if pending:
+            with _client(workers, scheduler, len(pending)) as client:
+                _run_pending(client, settings, pending, solver, out, records, advance)
+    rows = ranking.rank(out)
+    ranking.write_ranking(out, rows)
+    best = ranking.update_best(out, rows)
+    return CampaignReport(
+        out_dir=out, criterion=criterion, starts=starts, base_seed=base_seed,
+        ran=len(pending), skipped=len(seeds) - len(pending), rows=rows, best_seed=best,
+        wall_time_s=time.perf_counter() - t0, removed_temporaries=len(removed),
+    )  # fmt: skip
+
+
+def _run_pending(
+    client: Client,
+    settings: PredictionSettings,
+    pending: list[int],
+    solver: str,
+    out: Path,
+    records: dict[int, dict],
+    advance: Callable[[], None],
+) -> None:
+    """Submit one task per pending seed and collect records as tasks finish."""
+    from distributed import as_completed
+
+    settings_dict = settings.model_dump()
+    root = str(store.starts_dir(out).resolve())  # workers may run in another directory
+    tag = uuid.uuid4().hex[:8]
+    futures = {
+        client.submit(task.run_start, settings_dict, seed, solver, root, pure=False,
+                      key=f"walk3d-start-{seed:06d}-{tag}"): seed
+        for seed in pending
+    }  # fmt: skip
+    for future in as_completed(futures):
+        seed = futures[future]
+        try:
+            record = future.result()
+        except Exception as exc:
+            if future.status != "error":  # cancelled or lost: leave the start for a resume
+                continue
+            # the task raised outside its own guard, or its worker died (KilledWorker)
+            record = task.write_error(root, seed, settings.criterion, exc)
+        records[seed] = record
+        advance()
+        future.release()

@@ -1,0 +1,268 @@
+"""On-disk layout of a multi-start campaign: resumable, and atomic at the level of one start.
+
+A campaign folder ``DIR`` holds:
+
+* ``campaign.json``: what the campaign is (settings, base seed, start count, criterion, solver),
+  written once at creation; only ``starts`` is rewritten, atomically, when a resume asks for
+  more starts;
+* ``starts/seed_<seed:06d>/``: one folder per finished start. A start is built in a temporary
+  sibling ``starts/.tmp_seed_<seed:06d>_<random>/`` (the ``walk3d predict`` files plus
+  ``record.json``) and then renamed to its final name with :func:`os.rename`, which is atomic:
+  a final folder is always complete, and a folder that exists is a finished start. A start that
+  raised (or whose worker died) gets a record-only folder (``record.json`` and, when known,
+  ``traceback.txt``);
+* ``ranking.csv`` and ``best/`` (see :mod:`walk3d.campaign.ranking`).
+
+Leftover temporaries (``.tmp_*``) come from interrupted runs and are deleted on resume.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import secrets
+import shutil
+from pathlib import Path
+from typing import Any
+
+from walk3d import __version__
+from walk3d.io._atomic import atomic_write_text
+from walk3d.problem.settings import PredictionSettings
+
+__all__ = [
+    "CAMPAIGN_FILE",
+    "CampaignMismatch",
+    "RECORD_FILE",
+    "clean_temporaries",
+    "commit_start",
+    "finished_records",
+    "new_temporary",
+    "open_campaign",
+    "read_campaign",
+    "start_name",
+]
+
+CAMPAIGN_FILE = "campaign.json"
+RECORD_FILE = "record.json"
+STARTS_DIR = "starts"
+TMP_PREFIX = ".tmp_"
+_START_RE = re.compile(r"^seed_(\d{6,})$")
+
+
+class CampaignMismatch(ValueError):
+    """The folder holds a campaign whose settings differ from the requested ones."""
+
+
+def start_name(seed: int) -> str:
+    """Final folder name of the start with ``seed``."""
+    return f"seed_{seed:06d}"
+
+
+def starts_dir(out_dir: str | Path) -> Path:
+    """The folder holding one sub-folder per finished start."""
+    return Path(out_dir) / STARTS_DIR
+
+
+def clean_json(value: Any) -> Any:
+    """``value`` with non-finite floats replaced by ``None`` (strict JSON)."""
+    if isinstance(value, dict):
+        return {str(k): clean_json(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [clean_json(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if hasattr(value, "item") and callable(value.item):  # numpy scalars
+        return clean_json(value.item())
+    return value
+
+
+def write_json(path: Path, data: dict) -> None:
+    """Write ``data`` atomically as indented, key-sorted strict JSON."""
+    text = json.dumps(clean_json(data), indent=2, sort_keys=True, allow_nan=False)
+    atomic_write_text(path, text + "\n")
+
+
+def _fsync_dir(path: Path) -> None:
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def _describe(value: Any) -> str:
+    return repr(value) if isinstance(value, str) else str(value)
+
+
+def read_campaign(out_dir: str | Path) -> dict:
+    """The stored ``campaign.json`` of ``out_dir``."""
+    return json.loads((Path(out_dir) / CAMPAIGN_FILE).read_text(encoding="utf-8"))
+
+
+def _mismatch(stored: dict, requested: dict) -> str | None:
+    """The first difference between two campaign descriptions, as a phrase, or None."""
+    s_set, r_set = stored.get("settings", {}), requested["settings"]
+    for key in sorted(set(s_set) | set(r_set)):
+        if s_set.get(key) != r_set.get(key):
+            return (f"{key}: stored {_describe(s_set.get(key))}, "
+                    f"requested {_describe(r_set.get(key))}")  # fmt: skip
+    for key in ("solver", "base_seed"):
+        if stored.get(key) != requested[key]:
+            return f"{key}: stored {_describe(stored.get(key))}, requested {requested[key]}"
+    return None
+
+
+def open_campaign(
+    out_dir: str | Path,
+    settings: PredictionSettings,
+    base_seed: int,
+    starts: int,
+    solver: str,
+) -> dict:
+    """Create the campaign folder, or check that an existing one matches this request.
+
+    A resume may ask for more starts (``campaign.json`` then records the larger count) or
+    fewer (only the first ``starts`` are run; finished ones are kept and ranked).
+
+    Raises:
+        CampaignMismatch: the folder holds a campaign with other settings, criterion, solver
+            or base seed, or is a non-empty folder that is not a campaign.
+    """
+    out = Path(out_dir)
+    requested = {
+        "walk3d_version": __version__,
+        "settings": clean_json(settings.model_dump()),
+        "criterion": settings.criterion,
+        "solver": solver,
+        "base_seed": base_seed,
+        "starts": starts,
+    }
+    path = out / CAMPAIGN_FILE
+    if path.is_file():
+        try:
+            stored = read_campaign(out)
+        except (OSError, ValueError) as exc:
+            raise CampaignMismatch(f"{path} is unreadable ({exc}); use a new --out") from None
+        diff = _mismatch(stored, requested)
+        if diff is not None:
+            raise CampaignMismatch(
+                f"{out} holds a campaign with different settings ({diff}); "
+                "rerun with the stored options or use a new --out"
+            )
+        if starts > int(stored.get("starts", 0)):
+            write_json(path, stored | {"starts": starts})
+            stored = read_campaign(out)
+        return stored
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise CampaignMismatch(f"{out} exists and is not a campaign folder; use a new --out")
+    starts_dir(out).mkdir(parents=True, exist_ok=True)
+    write_json(path, requested)
+    return requested
+
+
+def clean_temporaries(out_dir: str | Path) -> list[Path]:
+    """Delete the ``.tmp_*`` leftovers of interrupted runs; returns what was removed."""
+    removed = []
+    for parent in (Path(out_dir), starts_dir(out_dir)):
+        if not parent.is_dir():
+            continue
+        for p in parent.iterdir():
+            if p.name.startswith(TMP_PREFIX) and p.is_dir():
+                shutil.rmtree(p, ignore_errors=True)
+                removed.append(p)
+    return removed
+
+
+def read_record(folder: Path) -> dict | None:
+    """The record of a start folder, or None when missing or unreadable."""
+    try:
+        record = json.loads((folder / RECORD_FILE).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return record if isinstance(record, dict) else None
+
+
+def finished_records(out_dir: str | Path, repair: bool = False) -> dict[int, dict]:
+    """Records of the finished starts, by seed.
+
+    With ``repair``, a final folder without a readable record (possible only if edited by
+    hand) is deleted so that its start runs again.
+    """
+    records: dict[int, dict] = {}
+    root = starts_dir(out_dir)
+    if not root.is_dir():
+        return records
+    for folder in sorted(root.iterdir()):
+        m = _START_RE.match(folder.name)
+        if not m or not folder.is_dir():
+            continue
+        record = read_record(folder)
+        if record is None or record.get("seed") != int(m.group(1)):
+            if repair:
+                shutil.rmtree(folder, ignore_errors=True)
+            continue
+        records[int(m.group(1))] = record
+    return records
+
+
+def new_temporary(parent: Path, name: str) -> Path:
+    """Create and return an empty temporary folder ``parent/.tmp_<name>_<random>``."""
+    parent.mkdir(parents=True, exist_ok=True)
+    tmp = parent / f"{TMP_PREFIX}{name}_{secrets.token_hex(6)}"
+    tmp.mkdir()
+    return tmp
+
+
+def commit_start(tmp: Path, seed: int, record: dict) -> dict:
+    """Write ``record.json`` into ``tmp`` and rename ``tmp`` to the start's final folder.
+
+    If the final folder already exists (the same start finished elsewhere first), ``tmp`` is
+    discarded and the stored record is returned; otherwise ``record`` is.
+    """
+    final = tmp.parent / start_name(seed)
+    try:
+        write_json(tmp / RECORD_FILE, record)
+        _fsync_dir(tmp)
+        try:
+            os.rename(tmp, final)
+        except OSError:
+            existing = read_record(final)
+            if existing is None:
+                raise
+            shutil.rmtree(tmp, ignore_errors=True)
+            return existing
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    _fsync_dir(tmp.parent)
+    return clean_json(record)
+
+
+def replace_folder(source: Path, target: Path) -> None:
+    """Make ``target`` a copy of ``source`` without ever leaving a partial ``target``.
+
+    The copy is built in a temporary sibling; the old ``target`` is moved aside (to another
+    temporary, removed afterwards) just before the new one is renamed into place.
+    """
+    tmp = new_temporary(target.parent, target.name)
+    try:
+        shutil.copytree(source, tmp, dirs_exist_ok=True)
+        _fsync_dir(tmp)
+        if target.exists():
+            old = target.parent / f"{TMP_PREFIX}old_{target.name}_{secrets.token_hex(6)}"
+            os.rename(target, old)
+            os.rename(tmp, target)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.rename(tmp, target)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    _fsync_dir(target.parent)

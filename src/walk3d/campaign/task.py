@@ -1,0 +1,143 @@
+"""The work of one start, run inside a (long-lived) Dask worker process.
+
+A task receives only plain data (the settings as a dict, the seed, the solver name and the
+``starts`` folder) and calls :func:`walk3d.predict.predict`, whose compiled model is cached per
+process, so each worker builds the model once and reuses it for every start it runs. The task
+writes its own result folder (see :mod:`walk3d.campaign.store`), so a finished start is on disk
+even if the client dies; with a remote ``--scheduler`` the workers must therefore see the
+campaign folder (shared file system).
+
+Test hooks: the environment variables ``WALK3D_CAMPAIGN_FAIL_SEEDS`` and
+``WALK3D_CAMPAIGN_CRASH_SEEDS`` (comma-separated seeds) make the task raise, or kill its
+worker process, for those seeds. They are read in the worker, which inherits the environment
+of the process that started the local cluster.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import time
+import traceback
+from pathlib import Path
+from typing import Any
+
+from walk3d.campaign import store
+
+__all__ = ["error_record", "record_from_summary", "run_start"]
+
+FAIL_ENV = "WALK3D_CAMPAIGN_FAIL_SEEDS"
+CRASH_ENV = "WALK3D_CAMPAIGN_CRASH_SEEDS"
+CRITERIA = ("C_tor", "C_en")
+
+
+def _env_seeds(name: str) -> set[int]:
+    return {int(s) for s in os.environ.get(name, "").replace(" ", "").split(",") if s}
+
+
+def _test_hooks(seed: int) -> None:
+    if seed in _env_seeds(CRASH_ENV):
+        os._exit(70)
+    if seed in _env_seeds(FAIL_ENV):
+        raise RuntimeError(f"injected failure for seed {seed} ({FAIL_ENV})")
+
+
+def one_line(exc: BaseException, limit: int = 300) -> str:
+    """``Type: message`` of an exception on one line, at most ``limit`` characters."""
+    text = " ".join(f"{type(exc).__name__}: {exc}".split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _split(value: Any) -> dict[str, float | None]:
+    value = value if isinstance(value, dict) else {}
+    return {k: value.get(k) for k in ("total", "x", "y", "z")}
+
+
+def record_from_summary(summary: dict, criterion: str, task_time_s: float) -> dict:
+    """The campaign record of a finished prediction (from its ``summary.json`` dict)."""
+    objective = summary.get("objective") or {}
+    record = {
+        "seed": int(summary["seed"]),
+        "status": str(summary.get("status")),
+        "converged": bool(summary.get("converged")),
+        "criterion": criterion,
+        "criterion_value": _split(objective.get(f"C_{criterion}"))["total"],
+        "iterations": summary.get("iterations"),
+        "wall_time_s": summary.get("wall_time_s"),
+        "task_time_s": round(task_time_s, 3),
+        "max_constraint_violation": summary.get("max_constraint_violation"),
+        "solver": (summary.get("inputs") or {}).get("solver"),
+    }
+    for key in CRITERIA:
+        record[key] = _split(objective.get(key))
+    return store.clean_json(record)
+
+
+def error_record(seed: int, criterion: str, message: str, task_time_s: float | None) -> dict:
+    """The record of a start that raised or whose worker died (never converged)."""
+    return {
+        "seed": seed,
+        "status": f"error: {message}",
+        "converged": False,
+        "criterion": criterion,
+        "criterion_value": None,
+        "iterations": None,
+        "wall_time_s": None,
+        "task_time_s": None if task_time_s is None else round(task_time_s, 3),
+        "max_constraint_violation": None,
+        "solver": None,
+        **{key: _split(None) for key in CRITERIA},
+    }
+
+
+def write_error(
+    starts_dir: str | Path,
+    seed: int,
+    criterion: str,
+    exc: BaseException,
+    task_time_s: float | None = None,
+    tb: str | None = None,
+) -> dict:
+    """Write a record-only folder for a start that failed with ``exc``; returns the record.
+
+    A dead worker (Dask's ``KilledWorker``) gets a short fixed message.
+    """
+    if type(exc).__name__ == "KilledWorker":
+        message = "KilledWorker: the worker process died while running this start"
+    else:
+        message = one_line(exc)
+    tmp = store.new_temporary(Path(starts_dir), store.start_name(seed))
+    if tb:
+        (tmp / "traceback.txt").write_text(tb, encoding="utf-8")
+    return store.commit_start(tmp, seed, error_record(seed, criterion, message, task_time_s))
+
+
+def run_start(settings_dict: dict, seed: int, solver: str, starts_dir: str) -> dict:
+    """Run one start and store it under ``starts_dir``; returns its record.
+
+    Never raises for a failing prediction: an exception becomes an ``error: ...`` record.
+    A start already stored (e.g. a retried task) is not run again.
+    """
+    root = Path(starts_dir)
+    existing = store.read_record(root / store.start_name(seed))
+    if existing is not None:
+        return existing
+    criterion = str(settings_dict.get("criterion", "tor"))
+    t0 = time.perf_counter()
+    tmp = store.new_temporary(root, store.start_name(seed))
+    try:
+        from walk3d import predict as predict_module
+        from walk3d.problem.settings import PredictionSettings
+
+        _test_hooks(seed)
+        settings = PredictionSettings(**settings_dict)
+        pred = predict_module.predict(settings, seed, solver, out_dir=tmp, figure=False)
+        record = record_from_summary(pred.summary, criterion, time.perf_counter() - t0)
+    except Exception as exc:
+        shutil.rmtree(tmp, ignore_errors=True)
+        return write_error(root, seed, criterion, exc, time.perf_counter() - t0,
+                           traceback.format_exc())  # fmt: skip
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return store.commit_start(tmp, seed, record)

@@ -1,0 +1,123 @@
+"""Campaign bookkeeping without solving: ranking order, folder layout, refusing a resume."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from walk3d.campaign import rank, store
+from walk3d.campaign.ranking import COLUMNS, order_records, update_best, write_ranking
+from walk3d.campaign.task import error_record
+from walk3d.problem.settings import PredictionSettings
+
+TINY = PredictionSettings(nodes=6, max_iter=3)
+
+
+def record(seed, converged, value, status="Solve_Succeeded"):
+    split = None if value is None else {"total": value, "x": value / 2, "y": 0.0, "z": value / 2}
+    return {
+        "seed": seed, "status": status, "converged": converged, "criterion": "tor",
+        "criterion_value": value, "C_tor": split or {}, "C_en": {}, "iterations": 10,
+        "wall_time_s": 1.0,
+    }  # fmt: skip
+
+
+def test_order_converged_first_by_value_then_the_rest():
+    records = [
+        record(0, False, 5.0, "Maximum_Iterations_Exceeded"),
+        record(1, True, 30.0),
+        record(2, False, None, "error: RuntimeError: boom"),
+        record(3, True, 10.0),
+        record(4, False, 1.0, "Infeasible_Problem_Detected"),
+        record(5, True, float("nan")),
+        record(6, True, 10.0),
+    ]
+    rows = order_records(records)
+    assert [r["seed"] for r in rows] == [3, 6, 1, 5, 4, 0, 2]
+    assert [r["rank"] for r in rows] == list(range(1, 8))
+    assert rows[3]["criterion_value"] is None  # NaN value ranks last among the converged
+
+
+def _make_start(out, seed, converged, value):
+    tmp = store.new_temporary(store.starts_dir(out), store.start_name(seed))
+    (tmp / "summary.json").write_text("{}\n")
+    return store.commit_start(tmp, seed, record(seed, converged, value))
+
+
+def test_rank_csv_and_best_folder(tmp_path):
+    out = tmp_path / "c"
+    store.open_campaign(out, TINY, 0, 4, "ipopt")
+    for seed, conv, value in [(0, False, 1.0), (1, True, 9.0), (2, True, 4.0)]:
+        _make_start(out, seed, conv, value)
+    store.new_temporary(store.starts_dir(out), "seed_000003")  # an interrupted start
+    rows = rank(out)
+    assert [r["seed"] for r in rows] == [2, 1, 0]
+    lines = write_ranking(out, rows).read_text().splitlines()
+    assert lines[0].split(",") == list(COLUMNS)
+    assert [line.split(",")[1] for line in lines[1:]] == ["2", "1", "0"]
+    assert update_best(out, rows) == 2
+    assert json.loads((out / "best" / "record.json").read_text())["seed"] == 2
+    assert (out / "best" / "summary.json").is_file()
+    assert len(store.clean_temporaries(out)) == 1
+    assert not [p for p in store.starts_dir(out).iterdir() if p.name.startswith(".tmp")]
+
+
+def test_no_converged_start_means_no_best(tmp_path):
+    out = tmp_path / "c"
+    store.open_campaign(out, TINY, 0, 1, "ipopt")
+    _make_start(out, 0, False, 1.0)
+    assert update_best(out, rank(out)) is None
+    assert not (out / "best").exists()
+
+
+def test_commit_keeps_the_first_finished_copy(tmp_path):
+    root = tmp_path / "starts"
+    first = store.commit_start(store.new_temporary(root, "seed_000007"), 7, record(7, True, 1.0))
+    again = store.commit_start(store.new_temporary(root, "seed_000007"), 7, record(7, True, 2.0))
+    assert again == first
+    assert [p.name for p in root.iterdir()] == ["seed_000007"]
+
+
+def test_error_record_is_not_converged():
+    r = error_record(3, "en", "RuntimeError: boom", 0.5)
+    assert r["status"] == "error: RuntimeError: boom" and r["converged"] is False
+    assert order_records([r, record(4, False, 7.0)])[1]["seed"] == 3
+
+
+def test_resume_may_add_starts_but_not_change_settings(tmp_path):
+    out = tmp_path / "c"
+    store.open_campaign(out, TINY, 5, 4, "ipopt")
+    assert store.open_campaign(out, TINY, 5, 8, "ipopt")["starts"] == 8
+    assert store.read_campaign(out)["starts"] == 8
+    with pytest.raises(store.CampaignMismatch, match="speed"):
+        store.open_campaign(out, TINY.model_copy(update={"speed": 1.2}), 5, 8, "ipopt")
+    with pytest.raises(store.CampaignMismatch, match="base_seed"):
+        store.open_campaign(out, TINY, 0, 8, "ipopt")
+    (tmp_path / "other").mkdir()
+    (tmp_path / "other" / "file.txt").write_text("x")
+    with pytest.raises(store.CampaignMismatch, match="not a campaign"):
+        store.open_campaign(tmp_path / "other", TINY, 0, 1, "ipopt")
+
+
+@pytest.mark.parametrize(
+    "args,word",
+    [
+        (["--speed", "1.2"], "speed"),
+        (["--criterion", "en"], "criterion"),
+        (["--solver", "sqp"], "solver"),
+        (["--max-iter", "4"], "max_iter"),
+    ],
+)
+def test_cli_refuses_changed_settings_on_resume(tmp_path, args, word):
+    out = tmp_path / "c"
+    store.open_campaign(out, TINY, 0, 2, "ipopt")
+    before = (out / "campaign.json").read_bytes()
+    cmd = [sys.executable, "-m", "walk3d.cli", "campaign", "--starts", "2", "--out", str(out),
+           "--nodes", "6", "--max-iter", "3", *args]  # fmt: skip
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and word in lines[0] and lines[0].startswith("walk3d: error:"), r.stderr
+    assert (out / "campaign.json").read_bytes() == before
+    assert not list(store.starts_dir(out).iterdir())
