@@ -25,6 +25,10 @@ import numpy as np
 
 from walk3d import mathops as m
 
+_W_FLOOR = 1e-6
+"""Floor under ``1 - |v|²`` in the scalar part: only reached outside the joint ranges (at an
+optimizer's trial points), where it keeps values finite instead of NaN."""
+
 Q = tuple[Any, Any, Any, Any]
 V = tuple[Any, Any, Any]
 QTriple = tuple[Q, Q, Q]
@@ -166,7 +170,7 @@ def from_sine_triple(u: V, s: Any, sd: Any, sdd: Any) -> QTriple:
 
     ``u`` is a constant unit axis. Requires ``|s| < 1``.
     """
-    w = m.sqrt(1.0 - s * s)
+    w = m.sqrt(m.fmax(1.0 - s * s, _W_FLOOR))
     wd = -s * sd / w
     wdd = -(sd * sd + s * sdd) / w - (s * sd) ** 2 / w**3
     return (
@@ -183,7 +187,7 @@ def from_vector_triple(v: V, vd: V, vdd: V) -> QTriple:
     """
     vv = vdot(v, v)
     vvd = vdot(v, vd)
-    w = m.sqrt(1.0 - vv)
+    w = m.sqrt(m.fmax(1.0 - vv, _W_FLOOR))
     wd = -vvd / w
     wdd = -(vdot(vd, vd) + vdot(v, vdd)) / w - vvd * vvd / w**3
     return ((w, *v), (wd, *vd), (wdd, *vdd))

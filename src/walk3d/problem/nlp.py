@@ -91,19 +91,17 @@ def schedule(settings: PredictionSettings) -> Schedule:
     )
 
 
-RANGE_OVERSAMPLING = 4
-
-
 def range_rows(body: BodyModel, settings: PredictionSettings) -> tuple[np.ndarray, ...]:
-    """Joint-range constraints on a grid 4× finer than the nodes: ``(R, lo, hi)``, ``R @ x``.
+    """Joint-range rows on a grid ``range_oversampling`` × finer than the nodes: ``(R, lo, hi)``.
 
     Joint coordinates are linear in the coefficients, so these rows cost nothing to evaluate or
     differentiate, and they keep the series inside the anatomical ranges *between* nodes too
-    (with ranges enforced at the nodes only, the optimizer found gaits swinging far outside them
-    in between).
+    (with 12 nodes and ranges at the nodes only, the optimizer found gaits swinging far outside
+    them in between). Off by default: with 4× oversampling the kinematic stage reported local
+    infeasibility from the standing start (docs/solver.md).
     """
     ph = GaitPhases(settings.period, settings.double_support)
-    m = RANGE_OVERSAMPLING * settings.nodes
+    m = settings.range_oversampling * settings.nodes
     t = ph.heel_strike_r + np.arange(m) * settings.period / (2 * m)
     a0, _, _ = layout.coordinate_maps(t, settings.period)
     ranges = np.concatenate([j.range for j in body.joints])

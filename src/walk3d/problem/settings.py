@@ -38,6 +38,8 @@ class PredictionSettings(BaseModel):
     everywhere; 3° is within the foot's measured sway in mid-stance."""
     smoothing: float = 1e-3
     """Relative width of the smooth |x| used by the solver (see :mod:`walk3d.problem.criteria`)."""
+    range_oversampling: int = 0
+    """Extra linear joint-range rows on a grid this many times finer than the nodes (0: off)."""
     perturbation: float = 0.05
     """Amplitude of the uniform random perturbation of the standing initial guess."""
     max_iter: int = 1500
