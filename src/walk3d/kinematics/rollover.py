@@ -130,19 +130,27 @@ def arc_rollover(
 
 
 def fit_rollover(
-    heel: np.ndarray, ankle: np.ndarray, toe: np.ndarray, n_knots: int = 9
+    heel: np.ndarray,
+    ankle: np.ndarray,
+    toe: np.ndarray,
+    n_knots: int = 9,
+    flat_pitch: float | None = None,
 ) -> RollOver:
     """Fit the roll-over spline to measured stance trajectories (global, time first, (n, 3)).
 
-    The foot's sagittal rotation is the pitch of the heel-to-toe line relative to its value at
-    foot flat (the sample where heel and toe are most nearly level). Ankle displacements are taken
-    from that sample. Samples are binned on ``s = sin(θ/2)`` and averaged into ``n_knots`` knots.
+    The foot's sagittal rotation is the pitch of the heel-to-toe line relative to its pitch at
+    foot flat. Markers rarely sit at equal heights, so foot flat is not "pitch = 0": it is
+    ``flat_pitch`` (rad) when given, else the pitch where the foot rotates slowest (mid-stance).
+    Ankle displacements are taken from the sample closest to foot flat. Samples are binned on
+    ``s = sin(θ/2)`` and averaged into at most ``n_knots`` knots.
     """
     heel, ankle, toe = (np.asarray(a, dtype=float) for a in (heel, ankle, toe))
     d = toe - heel
     pitch = np.arctan2(d[:, 1], np.hypot(d[:, 0], d[:, 2]))
-    flat = int(np.argmin(np.abs(pitch - np.median(pitch))))
-    theta = pitch - pitch[flat]
+    if flat_pitch is None:
+        flat_pitch = float(pitch[int(np.argmin(np.abs(np.gradient(pitch))))])
+    theta = pitch - flat_pitch
+    flat = int(np.argmin(np.abs(theta)))
     s = np.sin(theta / 2)
     rel = ankle - ankle[flat]
     rel[:, 1] = ankle[:, 1]
