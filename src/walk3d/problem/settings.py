@@ -40,6 +40,11 @@ class PredictionSettings(BaseModel):
     """Relative width of the smooth |x| used by the solver (see :mod:`walk3d.problem.criteria`)."""
     range_oversampling: int = 0
     """Extra linear joint-range rows on a grid this many times finer than the nodes (0: off)."""
+    structured_derivatives: bool = False
+    """Give IPOPT the per-node assembled derivatives (walk3d.problem.derivatives) instead of
+    CasADi's own. They are equal at random points (tested) and faster, but from the standing
+    start IPOPT's iterates diverge from the first step and the kinematic stage stops
+    converging (docs/solver.md): off until that is understood."""
     perturbation: float = 0.05
     """Amplitude of the uniform random perturbation of the standing initial guess."""
     max_iter: int = 1500

@@ -82,14 +82,15 @@ def _settings_key(settings: PredictionSettings) -> PredictionSettings:
 def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     t0 = time.perf_counter()
     body = build_body(settings.mass, settings.height, settings.sex)
-    kin_prob, sch, lift = nlp.build_nlp(body, settings, dynamics=False, derivatives=True)
-    full_prob, _, _ = nlp.build_nlp(body, settings, dynamics=True, derivatives=True)
+    structured = settings.structured_derivatives
+    kin_prob, sch, lift = nlp.build_nlp(body, settings, dynamics=False, derivatives=structured)
+    full_prob, _, _ = nlp.build_nlp(body, settings, dynamics=True, derivatives=structured)
     plugin = "ipopt" if method == "ipopt" else "sqpmethod"
     if method == "ipopt":
         opts = _ipopt_options(settings, settings.max_iter)
     else:
         opts = _sqp_options(settings)
-    kin_derivs, full_derivs = kin_prob.pop("derivatives"), full_prob.pop("derivatives")
+    kin_derivs, full_derivs = kin_prob.pop("derivatives", {}), full_prob.pop("derivatives", {})
     kin = ca.nlpsol("walk3d_kin", plugin, kin_prob, opts | kin_derivs)
     full = ca.nlpsol("walk3d_full", plugin, full_prob, opts | full_derivs)
     return Solver(settings, body, kin, full, nlp.bounds(body, settings, sch), lift, sch,
