@@ -28,6 +28,14 @@ err_console = Console(stderr=True)
 Mass = Annotated[float, typer.Option("--mass", help="Body mass, kg.")]
 Height = Annotated[float, typer.Option("--height", help="Stature, m.")]
 Sex = Annotated[str, typer.Option("--sex", help="de Leva table: male or female.")]
+Speed = Annotated[float, typer.Option("--speed", help="Walking speed V, m/s.")]
+Period = Annotated[float, typer.Option("--period", help="Gait-cycle period T, s.")]
+DoubleSupport = Annotated[
+    float, typer.Option("--double-support", help="Double-support duration Td, s.")
+]
+Criterion = Annotated[str, typer.Option("--criterion", help="tor or en.")]
+SolverName = Annotated[str, typer.Option("--solver", help="ipopt or sqp.")]
+Nodes = Annotated[int, typer.Option("--nodes", help="Time nodes per half cycle.")]
 
 
 def fail(message: str, code: int = 2) -> None:
@@ -86,18 +94,16 @@ def body(
 @app.command()
 def predict(
     out: Annotated[str, typer.Option("--out", help="Result folder (created).")],
-    speed: Annotated[float, typer.Option("--speed", help="Walking speed V, m/s.")] = 1.3806,
-    period: Annotated[float, typer.Option("--period", help="Gait-cycle period T, s.")] = 1.08,
-    double_support: Annotated[
-        float, typer.Option("--double-support", help="Double-support duration Td, s.")
-    ] = 0.16,
+    speed: Speed = 1.3806,
+    period: Period = 1.08,
+    double_support: DoubleSupport = 0.16,
     mass: Mass = 68.8,
     height: Height = 1.77,
     sex: Sex = "male",
-    criterion: Annotated[str, typer.Option("--criterion", help="tor or en.")] = "tor",
+    criterion: Criterion = "tor",
     seed: Annotated[int, typer.Option("--seed", help="Random start.")] = 0,
-    solver: Annotated[str, typer.Option("--solver", help="ipopt or sqp.")] = "ipopt",
-    nodes: Annotated[int, typer.Option("--nodes", help="Time nodes per half cycle.")] = 20,
+    solver: SolverName = "ipopt",
+    nodes: Nodes = 20,
 ) -> None:
     """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot and
     summary.png. Exit code 0 if the solve converged, 1 if not (results are still written and
@@ -147,7 +153,7 @@ def predict(
 def campaign(
     starts: Annotated[int, typer.Option("--starts", help="Number of random starts.")],
     out: Annotated[str, typer.Option("--out", help="Campaign folder (created or resumed).")],
-    criterion: Annotated[str, typer.Option("--criterion", help="tor or en.")] = "tor",
+    criterion: Criterion = "tor",
     seed: Annotated[int, typer.Option("--seed", help="Base seed: start k uses seed+k.")] = 0,
     workers: Annotated[
         int | None, typer.Option("--workers", help="Local worker processes (default: cores).")
@@ -159,16 +165,14 @@ def campaign(
             help="Address of a running Dask scheduler (its workers must see --out).",
         ),
     ] = None,
-    speed: Annotated[float, typer.Option("--speed", help="Walking speed V, m/s.")] = 1.3806,
-    period: Annotated[float, typer.Option("--period", help="Gait-cycle period T, s.")] = 1.08,
-    double_support: Annotated[
-        float, typer.Option("--double-support", help="Double-support duration Td, s.")
-    ] = 0.16,
+    speed: Speed = 1.3806,
+    period: Period = 1.08,
+    double_support: DoubleSupport = 0.16,
     mass: Mass = 68.8,
     height: Height = 1.77,
     sex: Sex = "male",
-    solver: Annotated[str, typer.Option("--solver", help="ipopt or sqp.")] = "ipopt",
-    nodes: Annotated[int, typer.Option("--nodes", help="Time nodes per half cycle.")] = 20,
+    solver: SolverName = "ipopt",
+    nodes: Nodes = 20,
     max_iter: Annotated[
         int, typer.Option("--max-iter", help="Advanced: solver iteration limit per stage.")
     ] = 1500,
