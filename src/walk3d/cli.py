@@ -175,7 +175,7 @@ def campaign(
     nodes: Nodes = 20,
     max_iter: Annotated[
         int, typer.Option("--max-iter", help="Advanced: solver iteration limit per stage.")
-    ] = 1500,
+    ] = 800,
 ) -> None:
     """Run N random starts in parallel (Dask) and rank them. Each finished start is stored
     at once in DIR/starts/seed_<seed>/ (a walk3d predict folder plus record.json); rerunning

@@ -47,7 +47,7 @@ class PredictionSettings(BaseModel):
     converging (docs/solver.md): off until that is understood."""
     perturbation: float = 0.05
     """Amplitude of the uniform random perturbation of the standing initial guess."""
-    max_iter: int = 1500
+    max_iter: int = 800
     tol: float = 1e-6
 
     @field_validator("*", mode="before")
