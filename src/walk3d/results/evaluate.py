@@ -16,7 +16,7 @@ from walk3d.body.model import BodyModel
 from walk3d.contact.phases import GaitPhases
 from walk3d.contact.transition import centre_of_pressure
 from walk3d.kinematics import quaternion as qt
-from walk3d.kinematics.forward import point_triple, stack_q, stack_v
+from walk3d.kinematics.forward import point_triple, root_foot_triples, stack_q, stack_v
 from walk3d.problem import layout
 from walk3d.problem.criteria import node_terms, split_by_axis
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
@@ -89,8 +89,6 @@ def _contact_residual(body, st: GaitState, x, t, settings, ph, mask) -> float:
     """Largest distance between the trailing foot's landmarks and their roll-over pose."""
     if not np.any(mask):
         return 0.0
-    from walk3d.kinematics.forward import root_foot_triples
-
     other = "l" if st.root == "r" else "r"
     i_other = body.segment_index(f"foot_{other}")
     hw = float(x[layout.I_HALF_STEP])

@@ -73,11 +73,6 @@ def _ipopt_options(settings: PredictionSettings, max_iter: int) -> dict:
     }
 
 
-def _settings_key(settings: PredictionSettings) -> PredictionSettings:
-    # the criterion is part of the NLP; nothing seed-like is stored in settings
-    return settings
-
-
 @cache
 def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     t0 = time.perf_counter()
@@ -115,7 +110,7 @@ def _sqp_options(settings: PredictionSettings) -> dict:
 
 def build_solver(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     """The solver for these settings (built on first use, then reused in this process)."""
-    return _build(_settings_key(settings), method)
+    return _build(settings, method)
 
 
 def initial_guess(solver: Solver, seed: int) -> np.ndarray:
