@@ -91,6 +91,22 @@ def body(
     console.print(j)
 
 
+def _settings(criterion: str, solver: str, seed: int, **fields):
+    """Validated PredictionSettings from command-line values, or one error line and exit 2."""
+    from walk3d.problem.settings import PredictionSettings, first_error
+
+    if criterion not in ("tor", "en"):
+        fail(f"--criterion must be 'tor' or 'en', got {criterion!r}")
+    if solver not in ("ipopt", "sqp"):
+        fail(f"--solver must be 'ipopt' or 'sqp', got {solver!r}")
+    if seed < 0:
+        fail(f"--seed must be a non-negative integer, got {seed}")
+    try:
+        return PredictionSettings(criterion=criterion, **fields)
+    except ValueError as exc:
+        fail(first_error(exc))
+
+
 @app.command()
 def predict(
     out: Annotated[str, typer.Option("--out", help="Result folder (created).")],
@@ -108,21 +124,10 @@ def predict(
     """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot and
     summary.png. Exit code 0 if the solve converged, 1 if not (results are still written and
     labelled), 2 for bad input."""
-    from walk3d.problem.settings import PredictionSettings, first_error
-
-    if criterion not in ("tor", "en"):
-        fail(f"--criterion must be 'tor' or 'en', got {criterion!r}")
-    if solver not in ("ipopt", "sqp"):
-        fail(f"--solver must be 'ipopt' or 'sqp', got {solver!r}")
-    if seed < 0:
-        fail(f"--seed must be a non-negative integer, got {seed}")
-    try:
-        settings = PredictionSettings(
-            speed=speed, period=period, double_support=double_support, mass=mass,
-            height=height, sex=sex, criterion=criterion, nodes=nodes,
-        )  # fmt: skip
-    except ValueError as exc:
-        fail(first_error(exc))
+    settings = _settings(
+        criterion, solver, seed, speed=speed, period=period, double_support=double_support,
+        mass=mass, height=height, sex=sex, nodes=nodes,
+    )  # fmt: skip
     from walk3d.predict import predict as run
 
     with console.status("walk3d: starting") as status:
@@ -181,27 +186,16 @@ def campaign(
     at once in DIR/starts/seed_<seed>/ (a walk3d predict folder plus record.json); rerunning
     the same command resumes (a larger --starts adds starts). Writes DIR/ranking.csv and
     DIR/best/. Exit code 0 if a start converged, 1 if none did, 2 for bad input."""
-    from walk3d.problem.settings import PredictionSettings, first_error
-
     if starts < 1:
         fail(f"--starts must be a positive integer, got {starts}")
-    if criterion not in ("tor", "en"):
-        fail(f"--criterion must be 'tor' or 'en', got {criterion!r}")
-    if solver not in ("ipopt", "sqp"):
-        fail(f"--solver must be 'ipopt' or 'sqp', got {solver!r}")
-    if seed < 0:
-        fail(f"--seed must be a non-negative integer, got {seed}")
     if workers is not None and workers < 1:
         fail(f"--workers must be a positive integer, got {workers}")
     if max_iter < 1:
         fail(f"--max-iter must be a positive integer, got {max_iter}")
-    try:
-        settings = PredictionSettings(
-            speed=speed, period=period, double_support=double_support, mass=mass,
-            height=height, sex=sex, criterion=criterion, nodes=nodes, max_iter=max_iter,
-        )  # fmt: skip
-    except ValueError as exc:
-        fail(first_error(exc))
+    settings = _settings(
+        criterion, solver, seed, speed=speed, period=period, double_support=double_support,
+        mass=mass, height=height, sex=sex, nodes=nodes, max_iter=max_iter,
+    )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign
     from walk3d.campaign.ranking import top_table
 
