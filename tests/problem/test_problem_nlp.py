@@ -7,6 +7,8 @@ from walk3d import G
 from walk3d.body.model import build_body
 from walk3d.kinematics.forward import stack_v
 from walk3d.problem import layout, nlp
+from walk3d.problem.criteria import node_terms
+from walk3d.problem.gait import dof_moment_terms, strength_weights
 from walk3d.problem.settings import PredictionSettings
 
 
@@ -21,21 +23,32 @@ def _random_node(seed):
     rng = np.random.default_rng(seed)
     y = rng.uniform(-0.1, 0.1, nlp.N_Y)
     w0 = np.array([0.05, 1.0, 0.01, 0.02, 0.01, 0.03])
-    return y, w0, 0.07, np.array([0.6, -0.7])
+    t = rng.uniform(0.0, 0.5, nlp.N_T)
+    return y, w0, 0.07, np.array([0.6, -0.7]), t
 
 
 def test_symbolic_node_function_matches_numpy_evaluation(setup):
     s, body, fn = setup
-    y, w0, hw, p = _random_node(1)
-    g, f = (np.array(v).ravel() for v in fn(y, w0, hw, p))
+    y, w0, hw, p, t = _random_node(1)
+    g, f = (np.array(v).ravel() for v in fn(y, w0, hw, p, t))
     omega = 2 * np.pi / s.period
     st = nlp.state_at(body, [np.array([v]) for v in y], [np.array([v]) for v in w0], hw,
                       p[0], p[1], omega)  # fmt: skip
     g_np, f_np, starts = nlp.node_outputs(body, s, st)
     g_np = [float(np.squeeze(v)) for v in g_np]
     np.testing.assert_allclose(g[: len(g_np)], g_np, rtol=1e-10, atol=1e-12)
-    np.testing.assert_allclose(f, [float(np.squeeze(v)) for v in f_np], rtol=1e-10)
     assert len(g) == nlp.N_G
+    # slack rows: t - u± with u± the signed criterion terms; the objective is the slack sum
+    u_pos, u_neg = nlp.signed_terms(body, s, st)
+    u_pos = np.array([float(np.squeeze(v)) for v in u_pos])
+    u_neg = np.array([float(np.squeeze(v)) for v in u_neg])
+    np.testing.assert_allclose(g[nlp.G_ROWS["slack_pos"]], t - u_pos, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(g[nlp.G_ROWS["slack_neg"]], t - u_neg, rtol=1e-10, atol=1e-12)
+    assert f[0] == pytest.approx(t.sum(), rel=1e-12)
+    # the smallest feasible slack is the exact C_tor integrand |M| / M_max(direction)
+    exact = [float(np.squeeze(v)) for v in node_terms(*dof_moment_terms(body, st)[:2],
+                                                           *strength_weights(body), None)[0]]
+    np.testing.assert_allclose(np.maximum(u_pos, u_neg), exact, rtol=1e-10, atol=1e-12)
     # the split: the trailing foot carries decay * W0, the root the rest of the total
     wf = body.mass * G
     fl = stack_v(st.feet["l"][0])[0]
@@ -48,7 +61,7 @@ def test_bounds_and_variables_have_matching_sizes(setup):
     s, body, _ = setup
     prob, sch, lift = nlp.build_nlp(body, s)
     b = nlp.bounds(body, s, sch)
-    assert prob["x"].shape[0] == b.lbz.size == layout.N_X + sch.n * nlp.N_Y + 6
+    assert prob["x"].shape[0] == b.lbz.size == layout.N_X + sch.n * (nlp.N_Y + nlp.N_T) + 6
     assert prob["g"].shape[0] == b.lbg.size
     assert np.all(b.lbz <= b.ubz) and np.all(b.lbg <= b.ubg)
     # double support comes first, then swing; the loop is enforced only in double support
@@ -70,7 +83,8 @@ def test_structured_derivatives_equal_casadis_own(setup):
     ref = ca.nlpsol("ref", "ipopt", prob, {"print_time": False, "ipopt.print_level": 0})
     rng = np.random.default_rng(0)
     z = rng.uniform(-0.05, 0.05, prob["x"].shape[0])
-    z[-6:] = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+    i_w0 = layout.N_X + 6 * nlp.N_Y
+    z[i_w0 : i_w0 + 6] = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
     z[layout.I_HALF_STEP] = 0.08
     lam_g = rng.normal(size=prob["g"].shape[0])
     h_ref = np.array(ref.get_function("nlp_hess_l")(z, [], 0.7, lam_g))

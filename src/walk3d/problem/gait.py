@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from walk3d import G
 from walk3d import mathops as mo
 from walk3d.body.model import BodyModel
 from walk3d.contact.transition import heel_strike_wrench, split
@@ -97,8 +98,9 @@ def evaluate(
     ``decay`` is the trailing-foot share ``e(τ)`` (0 in single stance); ``w0`` the trailing foot's
     heel-strike wrench (force, moment about its ankle), or None to use this instant's own total
     (which makes the trailing foot carry everything: the heel-strike instant itself).
-    With ``dynamics=False`` only kinematic outputs are computed (loads and moments are zero):
-    the cheap first stage of a solve.
+    With ``dynamics=False`` only kinematic outputs and the total ground force ``Σ m(a + g)``
+    are computed; the root foot is given that total (so a first stage can keep it pushing
+    and within friction), the other foot and all moments are zero.
     """
     other = "l" if root == "r" else "r"
     dof = coords[:24]
@@ -127,7 +129,13 @@ def evaluate(
     else:
         zero = 0.0 * ankle_other[0]
         z3 = (zero, zero, zero)
-        total = hs = root_w = other_w = (z3, z3)
+        force = [zero, zero, zero]
+        for i, seg in enumerate(body.segments):  # Σ m (a + g): no rotational dynamics needed
+            a = pose.com[i][2]
+            force = [force[0] + seg.mass * a[0], force[1] + seg.mass * (a[1] + G),
+                     force[2] + seg.mass * a[2]]  # fmt: skip
+        total = root_w = (tuple(force), z3)
+        hs = other_w = (z3, z3)
         moments = [z3] * len(body.joints)
     pts = body.foot.points(other)
     return GaitState(

@@ -1,12 +1,14 @@
 """The optimization problem (paper section 2.5) in lifted form for CasADi.
 
-Decision variables of the NLP: ``z = [x (166, see layout), Y (N+1 nodes × 78), W0 (6)]``.
+Decision variables of the NLP: ``z = [x (166, see layout), vec(Y) (N nodes × 78), W0 (6),
+vec(T) (N nodes × 24)]`` (column-major: node k's block is contiguous).
 
 * ``Y_k`` holds the 26 coordinates at node k with their first and second derivatives
   (``[values, rates, accelerations]``), tied to the Fourier coefficients by the linear equalities
   ``Y_k = A_k x`` ("lifted" form: the Hessian is block-diagonal per node).
 * ``W0`` is the total ground reaction at right heel strike (node 0), the trailing left foot's
   initial load in double support, in units of body weight (moment about the left ankle, × 1 m).
+* ``T_k`` holds one slack per DoF for the criterion's absolute values (:func:`node_function`).
 
 Nodes cover the half cycle in which the right foot is the root: ``t_k = t_hs_r + k T/(2N)``,
 ``k = 0..N-1``. The closed loop in double support (the trailing left foot on its own roll-over
@@ -28,8 +30,9 @@ import numpy as np
 from walk3d import G
 from walk3d.body.model import BodyModel
 from walk3d.contact.phases import GaitPhases
+from walk3d.contact.support import foot_points, support_rows
 from walk3d.problem import layout
-from walk3d.problem.criteria import node_terms
+from walk3d.problem.criteria import POWER_SCALE_W, node_terms
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
 from walk3d.problem.settings import PredictionSettings
 
@@ -46,8 +49,14 @@ G_ROWS = {
     "other_force": slice(25, 30),
     "hs_wrench": slice(30, 36),
     "ball_norm": slice(36, 41),
+    "slack_pos": slice(41, 65),
+    "slack_neg": slice(65, 89),
+    "root_support": slice(89, 95),
+    "other_support": slice(95, 101),
 }
-N_G = 41
+N_G = 101
+N_T = 24
+"""Slack variables per node, one per DoF (``slack`` criterion form; see :func:`node_function`)."""
 BALL_NORM_MAX = 0.97
 EN_SCALE = 100.0  # C_en is divided by this in the solver's objective (J -> O(1))
 
@@ -141,6 +150,23 @@ def state_at(
     )
 
 
+def signed_terms(body: BodyModel, settings: PredictionSettings, st: GaitState):
+    """Per DoF, ``(u⁺, u⁻)`` with ``max(u⁺, u⁻)`` the exact criterion integrand.
+
+    C_tor: ``u⁺ = M/M⁺``, ``u⁻ = -M/M⁻`` (direction-dependent strength). C_en: ``±P/P_ref``
+    with ``P_ref`` = :data:`walk3d.problem.criteria.POWER_SCALE_W`.
+    """
+    moments, rates, _ = dof_moment_terms(body, st)
+    pos = np.concatenate([j.strength_pos for j in body.joints])
+    neg = np.concatenate([j.strength_neg for j in body.joints])
+    if settings.criterion == "tor":
+        return [m / pos[i] for i, m in enumerate(moments)], [
+            -m / neg[i] for i, m in enumerate(moments)
+        ]
+    powers = [m * w / POWER_SCALE_W for m, w in zip(moments, rates, strict=True)]
+    return powers, [-p for p in powers]
+
+
 def node_outputs(body: BodyModel, settings: PredictionSettings, st: GaitState):
     """Constraint rows (list of N_G) and objective terms ``[C_tor, C_en/EN_SCALE]`` per node."""
     wf = body.mass * G
@@ -173,30 +199,57 @@ def node_outputs(body: BodyModel, settings: PredictionSettings, st: GaitState):
 def node_function(
     body: BodyModel, settings: PredictionSettings, dynamics: bool = True, with_hs: bool = True
 ) -> ca.Function:
-    """``walk3d_node(y[78], w0[6], hw, p[2]) -> (g[41], f[2])`` in SX, ``p = [decay, anchor_x]``.
+    """``walk3d_node(y[78], w0[6], hw, p[2], t[24]) -> (g[N_G], f[2])`` in SX,
+    ``p = [decay, anchor_x]``.
 
-    With ``dynamics=False`` (first stage) the objective terms are both the mean squared joint
-    coordinate rate, a smoothness measure that needs no inverse dynamics. With
-    ``with_hs=False`` the heel-strike wrench rows are constant zeros: only node 0 needs them,
-    and leaving them out elsewhere removes a fifth of the Hessian's cost.
+    Criterion form (``settings.absolute``):
+
+    * ``slack`` (default): the integrand ``|u|`` is replaced by a slack ``t ≥ u⁺, t ≥ u⁻`` per
+      DoF (:func:`signed_terms`), and ``f = Σ t``. This is exact at the optimum and smooth:
+      the objective is linear, and the only curvature left is that of the moments themselves.
+      (With ``sqrt(u² + ε²)`` the curvature ``1/ε`` near ``u = 0`` kept IPOPT from converging.)
+    * ``smooth``: ``f`` holds the smoothed criteria of :mod:`walk3d.problem.criteria`; the
+      slack rows are zeros and ``t`` is unused.
+
+    With ``dynamics=False`` (first stage) both objective terms are the mean squared joint
+    coordinate rate and acceleration (scaled by ω and ω²) plus the mean squared joint coordinate
+    (``sin(θ/2)``): the smoothest walking
+    posture sequence near upright standing, found without inverse dynamics. (Rates alone leave
+    constant offsets free, and the first stage then parked the arms at 70° of flexion.) With
+    ``with_hs=False`` the heel-strike wrench rows are constant zeros: only node 0 needs them.
     """
     y = ca.SX.sym("y", N_Y)
     w0 = ca.SX.sym("w0", 6)
     hw = ca.SX.sym("hw")
     p = ca.SX.sym("p", 2)
+    t = ca.SX.sym("t", N_T)
     omega = 2 * np.pi / settings.period
     yl, w0l = [y[i] for i in range(N_Y)], [w0[i] for i in range(6)]
     st = state_at(body, yl, w0l, hw, p[0], p[1], omega, dynamics)
     g, f, starts = node_outputs(body, settings, st)
     if not dynamics:
         n = layout.N_COORD
-        rate = sum(y[n + i] ** 2 for i in range(n)) / n
-        f = [rate, rate]
+        rate = sum(y[n + i] ** 2 + y[2 * n + i] ** 2 for i in range(n)) / n
+        posture = sum(y[i] ** 2 for i in range(24)) / 24
+        f = [rate + posture, rate + posture]
     if not with_hs:
         g[G_ROWS["hs_wrench"]] = [0.0] * 6
     for s in starts:  # |vector part|² of each ball joint stays below 1
         g.append(y[s] ** 2 + y[s + 1] ** 2 + y[s + 2] ** 2)
-    return ca.Function("walk3d_node", [y, w0, hw, p], [ca.vertcat(*g), ca.vertcat(*f)])
+    if dynamics and settings.absolute == "slack":
+        u_pos, u_neg = signed_terms(body, settings, st)
+        g += [t[i] - u for i, u in enumerate(u_pos)] + [t[i] - u for i, u in enumerate(u_neg)]
+        total = ca.sum1(t)
+        f = [total, total * POWER_SCALE_W / EN_SCALE]
+    else:
+        g += [0.0] * (2 * N_T)
+    wf = body.mass * G
+    for side in ("r", "l"):  # root (right) first, then the other foot
+        i = body.segment_index(f"foot_{side}")
+        pts = foot_points(st.pose, i, body.foot.points(side))
+        g += support_rows(st.feet[side], pts, side, wf, settings.friction,
+                          settings.free_moment_radius)  # fmt: skip
+    return ca.Function("walk3d_node", [y, w0, hw, p, t], [ca.vertcat(*g), ca.vertcat(*f)])
 
 
 @dataclass(frozen=True)
@@ -230,8 +283,13 @@ def _coord_bounds(
     return lo.reshape(n_nodes, -1), hi.reshape(n_nodes, -1)
 
 
-def bounds(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> Bounds:
+def bounds(
+    body: BodyModel, settings: PredictionSettings, sch: Schedule, dynamics: bool = True
+) -> Bounds:
+    """Bounds on ``z`` and ``g``. Slacks are fixed at 0 when unused (kinematic stage, smooth
+    criterion form) and free otherwise (``t ≥ u±`` bounds them below)."""
     n_nodes = sch.n
+    slack = dynamics and settings.absolute == "slack"
     # x: symmetry-fixed coefficients, half step width
     lbx = np.full(layout.N_X, -np.inf)
     ubx = np.full(layout.N_X, np.inf)
@@ -239,8 +297,9 @@ def bounds(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> Boun
     lbx[fixed], ubx[fixed] = 0.0, 0.0
     lbx[layout.I_HALF_STEP], ubx[layout.I_HALF_STEP] = 0.02, 0.25
     ylo, yhi = _coord_bounds(body, settings, sch)
-    lbz = np.concatenate([lbx, ylo.ravel(), np.full(6, -np.inf)])
-    ubz = np.concatenate([ubx, yhi.ravel(), np.full(6, np.inf)])
+    t_lo, t_hi = (-np.inf, np.inf) if slack else (0.0, 0.0)
+    lbz = np.concatenate([lbx, ylo.ravel(), np.full(6, -np.inf), np.full(n_nodes * N_T, t_lo)])
+    ubz = np.concatenate([ubx, yhi.ravel(), np.full(6, np.inf), np.full(n_nodes * N_T, t_hi)])
 
     glo = np.full((n_nodes, N_G), -np.inf)
     ghi = np.full((n_nodes, N_G), np.inf)
@@ -261,6 +320,12 @@ def bounds(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> Boun
             glo[k, R["root_force"].start] = 0.0
             ghi[k, R["root_force"].start + 1 : R["root_force"].stop] = 0.0
         glo[k, R["ball_norm"]], ghi[k, R["ball_norm"]] = 0.0, BALL_NORM_MAX
+        if slack:
+            glo[k, R["slack_pos"]] = glo[k, R["slack_neg"]] = 0.0
+        if dynamics and k > 0:
+            glo[k, R["root_support"]] = 0.0
+        if dynamics and sch.double_support[k]:
+            glo[k, R["other_support"]] = 0.0
     n_lift = n_nodes * N_Y
     _, rlo, rhi = range_rows(body, settings)
     lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo])
@@ -289,19 +354,20 @@ def build_nlp(
     x = ca.MX.sym("x", layout.N_X)
     ys = ca.MX.sym("Y", N_Y, n_nodes)
     w0 = ca.MX.sym("W0", 6)
+    ts = ca.MX.sym("T", N_T, n_nodes)
     hw = x[layout.I_HALF_STEP]
     lift_mat = ca.sparsify(ca.DM(lift.reshape(-1, layout.N_X)))
     g_lift = ca.vec(ys) - ca.mtimes(lift_mat, x)
     params = ca.DM(np.stack([sch.decay, sch.anchor_other_x]))
-    g0, f0 = node0(ys[:, 0], w0, hw, params[:, 0])
+    g0, f0 = node0(ys[:, 0], w0, hw, params[:, 0], ts[:, 0])
     rest = n_nodes - 1
     gr, fr = node.map(rest)(ys[:, 1:], ca.repmat(w0, 1, rest), ca.repmat(hw, 1, rest),
-                            params[:, 1:])  # fmt: skip
+                            params[:, 1:], ts[:, 1:])  # fmt: skip
     gk, fk = ca.horzcat(g0, gr), ca.horzcat(f0, fr)
     g_hs = g0[G_ROWS["hs_wrench"]] - w0
     crit = 0 if settings.criterion == "tor" else 1
     f = 2.0 * sch.step * ca.sum2(fk[crit, :])
-    z = ca.vertcat(x, ca.vec(ys), w0)
+    z = ca.vertcat(x, ca.vec(ys), w0, ca.vec(ts))
     range_mat = ca.sparsify(ca.DM(range_rows(body, settings)[0]))
     g = ca.vertcat(g_lift, ca.vec(gk), g_hs, ca.mtimes(range_mat, x))
     prob = {"x": z, "f": f, "g": g}

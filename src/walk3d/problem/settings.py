@@ -30,12 +30,18 @@ class PredictionSettings(BaseModel):
     nodes: int = 20
     friction: float = 0.8
     """Foot-floor friction coefficient for |Fx|/Fy and |Fz|/Fy (rubber sole on a lab floor)."""
+    free_moment_radius: float = 0.02
+    """Effective torsional radius of the shoe sole, m: ``|free moment| ≤ friction × r × Fy``
+    (see :mod:`walk3d.contact.support`; 2 cm allows ~11 N·m at body weight)."""
     min_ankle_separation: float = 0.06
     """Minimum lateral distance between the ankle joint centres, m (feet must not cross)."""
     foot_flat_tolerance: float = math.radians(3.0)
     """Largest stance-foot rotation allowed in single stance, rad. The paper asks for exactly 0,
     which a 5th-order Fourier series cannot hold over a whole interval without vanishing
     everywhere; 3° is within the foot's measured sway in mid-stance."""
+    absolute: Literal["slack", "smooth"] = "slack"
+    """How the solver sees the criterion's absolute values: exact slack variables (default) or
+    the smooth ``sqrt(x² + ε²)`` (kept for comparison; it did not converge, docs/solver.md)."""
     smoothing: float = 1e-3
     """Relative width of the smooth |x| used by the solver (see :mod:`walk3d.problem.criteria`)."""
     range_oversampling: int = 0
@@ -71,6 +77,10 @@ class PredictionSettings(BaseModel):
             (1.0 <= self.height <= 2.4, f"height must be in [1.0, 2.4] m, got {self.height}"),
             (6 <= self.nodes <= 200, f"nodes must be in [6, 200], got {self.nodes}"),
             (0 < self.friction <= 2, f"friction must be in (0, 2], got {self.friction}"),
+            (
+                0 <= self.free_moment_radius <= 0.1,
+                f"free-moment radius must be in [0, 0.1] m, got {self.free_moment_radius}",
+            ),
             (0 < self.smoothing < 0.1, f"smoothing must be in (0, 0.1), got {self.smoothing}"),
         ]
         for ok, msg in checks:

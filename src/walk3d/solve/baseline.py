@@ -22,6 +22,8 @@ class _Dense:
     """Objective and constraints as plain functions of x (166) for one stage."""
 
     def __init__(self, settings: PredictionSettings, dynamics: bool):
+        # the paper's form: the (smoothed) criterion itself is the objective, no slack variables
+        settings = settings.model_copy(update={"absolute": "smooth"})
         sv = build_solver(settings)
         self.sv = sv
         node = nlp.node_function(sv.body, settings, dynamics)
@@ -30,7 +32,7 @@ class _Dense:
         self.params = np.stack([sv.schedule.decay, sv.schedule.anchor_other_x])
         self.crit = 0 if settings.criterion == "tor" else 1
         self.step = sv.schedule.step
-        b = sv.bounds
+        b = sv.bounds if dynamics else sv.bounds_kinematic
         n_lift = self.n * nlp.N_Y
         n_node = self.n * nlp.N_G
         self.range_mat = nlp.range_rows(sv.body, settings)[0]
@@ -48,7 +50,8 @@ class _Dense:
         self.evals += 1
         y = (self.lift @ x[: layout.N_X]).reshape(self.n, nlp.N_Y).T
         w0 = np.tile(x[layout.N_X :][:, None], (1, self.n))
-        g, f = self.fn(y, w0, np.full((1, self.n), x[layout.I_HALF_STEP]), self.params)
+        hw = np.full((1, self.n), x[layout.I_HALF_STEP])
+        g, f = self.fn(y, w0, hw, self.params, np.zeros((nlp.N_T, self.n)))
         g, f = np.array(g), np.array(f)
         hs = g[nlp.G_ROWS["hs_wrench"], 0] - x[layout.N_X :]
         g = np.r_[g.T.ravel(), self.range_mat @ x[: layout.N_X]]
@@ -77,7 +80,7 @@ def slsqp_solve(
 ) -> SolveOutcome:
     """Two-stage SLSQP (finite differences) from the same start as the default solver."""
     t0 = time.perf_counter()
-    sv = build_solver(settings)
+    sv = build_solver(settings.model_copy(update={"absolute": "smooth"}))
     z0 = initial_guess(sv, seed)
     x = np.concatenate([z0[: layout.N_X], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]])
     status, iters, stages = "not run", 0, []

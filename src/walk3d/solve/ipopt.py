@@ -36,7 +36,10 @@ class Solver:
     body: BodyModel
     kinematic: ca.Function
     full: ca.Function
+    constraints: ca.Function
+    """``g(z)`` of the full stage (used to start it consistently)."""
     bounds: nlp.Bounds
+    bounds_kinematic: nlp.Bounds
     lift: np.ndarray
     schedule: nlp.Schedule
     build_time_s: float
@@ -88,7 +91,9 @@ def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     kin_derivs, full_derivs = kin_prob.pop("derivatives", {}), full_prob.pop("derivatives", {})
     kin = ca.nlpsol("walk3d_kin", plugin, kin_prob, opts | kin_derivs)
     full = ca.nlpsol("walk3d_full", plugin, full_prob, opts | full_derivs)
-    return Solver(settings, body, kin, full, nlp.bounds(body, settings, sch), lift, sch,
+    g_full = ca.Function("walk3d_g", [full_prob["x"]], [full_prob["g"]])
+    return Solver(settings, body, kin, full, g_full, nlp.bounds(body, settings, sch),
+                  nlp.bounds(body, settings, sch, dynamics=False), lift, sch,
                   time.perf_counter() - t0)  # fmt: skip
 
 
@@ -126,12 +131,41 @@ def initial_guess(solver: Solver, seed: int) -> np.ndarray:
 
 def _z_from_x(solver: Solver, x: np.ndarray, w0: np.ndarray) -> np.ndarray:
     y = np.einsum("kij,j->ki", solver.lift, x)
-    z = np.concatenate([x, y.ravel(), w0])
-    return np.clip(z, solver.bounds.lbz, solver.bounds.ubz)
+    t = np.zeros(solver.schedule.n * nlp.N_T)
+    z = np.concatenate([x, y.ravel(), w0, t])
+    return np.clip(z, solver.bounds_kinematic.lbz, solver.bounds_kinematic.ubz)
 
 
-def _run(fn: ca.Function, solver: Solver, z0: np.ndarray, name: str):
-    b = solver.bounds
+SLACK_MARGIN = 1e-2
+"""Initial slack above the larger of ``u⁺, u⁻`` (criterion units per DoF), to start inside."""
+
+
+def full_stage_start(solver: Solver, z: np.ndarray) -> np.ndarray:
+    """Start of the full stage from a kinematic solution ``z``: consistent W0 and slacks.
+
+    W0 is set to the total reaction at node 0 (twice, since the split in double support
+    depends on it), and each slack to ``max(u⁺, u⁻) + SLACK_MARGIN`` at that point.
+    """
+    z = z.copy()
+    n, n_x, n_y = solver.schedule.n, layout.N_X, nlp.N_Y
+    i_w0 = n_x + n * n_y
+    i_t = i_w0 + 6
+    z[i_w0:i_t] = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+    z[i_t:] = 0.0
+    rows = nlp.G_ROWS
+    for _ in range(2):
+        g = np.array(solver.constraints(z)).ravel()
+        node = g[n * n_y : n * n_y + n * nlp.N_G].reshape(n, nlp.N_G)
+        z[i_w0:i_t] = node[0, rows["hs_wrench"]]
+    g = np.array(solver.constraints(z)).ravel()
+    node = g[n * n_y : n * n_y + n * nlp.N_G].reshape(n, nlp.N_G)
+    u = np.maximum(-node[:, rows["slack_pos"]], -node[:, rows["slack_neg"]])
+    if solver.settings.absolute == "slack":
+        z[i_t:] = (u + SLACK_MARGIN).ravel()
+    return z
+
+
+def _run(fn: ca.Function, solver: Solver, z0: np.ndarray, name: str, b: nlp.Bounds):
     t0 = time.perf_counter()
     sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
     stats = fn.stats()
@@ -165,10 +199,10 @@ def solve(
     solver = build_solver(settings, method)
     t0 = time.perf_counter()
     note("stage 1/2: kinematic walking posture")
-    z, info1 = _run(solver.kinematic, solver, initial_guess(solver, seed), "kinematic")
-    z[-6:] = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+    z0 = initial_guess(solver, seed)
+    z, info1 = _run(solver.kinematic, solver, z0, "kinematic", solver.bounds_kinematic)
     note(f"stage 2/2: minimizing C_{settings.criterion}")
-    z, info2 = _run(solver.full, solver, z, "full")
+    z, info2 = _run(solver.full, solver, full_stage_start(solver, z), "full", solver.bounds)
     return SolveOutcome(
         x=z[: layout.N_X].copy(),
         z=z,
