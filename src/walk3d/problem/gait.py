@@ -16,7 +16,6 @@ from typing import Any
 
 import numpy as np
 
-from walk3d import G
 from walk3d import mathops as mo
 from walk3d.body.model import BodyModel
 from walk3d.contact.transition import heel_strike_wrench, split
@@ -98,9 +97,9 @@ def evaluate(
     ``decay`` is the trailing-foot share ``e(τ)`` (0 in single stance); ``w0`` the trailing foot's
     heel-strike wrench (force, moment about its ankle), or None to use this instant's own total
     (which makes the trailing foot carry everything: the heel-strike instant itself).
-    With ``dynamics=False`` only kinematic outputs and the total ground force ``Σ m(a + g)``
-    are computed; the root foot is given that total (so a first stage can keep it pushing
-    and within friction), the other foot and all moments are zero.
+    With ``dynamics=False`` only kinematic outputs and the total ground reaction are computed
+    (no joint moments); the root foot is given that total (so a first stage can keep it
+    pushing, within friction and under the feet), the other foot and all moments are zero.
     """
     other = "l" if root == "r" else "r"
     dof = coords[:24]
@@ -129,12 +128,7 @@ def evaluate(
     else:
         zero = 0.0 * ankle_other[0]
         z3 = (zero, zero, zero)
-        force = [zero, zero, zero]
-        for i, seg in enumerate(body.segments):  # Σ m (a + g): no rotational dynamics needed
-            a = pose.com[i][2]
-            force = [force[0] + seg.mass * a[0], force[1] + seg.mass * (a[1] + G),
-                     force[2] + seg.mass * a[2]]  # fmt: skip
-        total = root_w = (tuple(force), z3)
+        total = root_w = total_ground_reaction(body, pose)
         hs = other_w = (z3, z3)
         moments = [z3] * len(body.joints)
     pts = body.foot.points(other)

@@ -196,6 +196,24 @@ def node_outputs(body: BodyModel, settings: PredictionSettings, st: GaitState):
     return g, [sum(tor), sum(en) / EN_SCALE], y_norms
 
 
+def _support(body: BodyModel, settings: PredictionSettings, st: GaitState, dynamics: bool):
+    """Rows of :mod:`walk3d.contact.support`: root foot, then other foot.
+
+    In the first stage (no split between the feet) the root rows hold the *total* reaction
+    under the root foot (single stance) and the other rows the total under both feet (double
+    support: the box from the trailing left heel to the leading right toe, and from the left
+    to the right fifth metatarsal head).
+    """
+    wf, mu, r = body.mass * G, settings.friction, settings.free_moment_radius
+    pts = {s: foot_points(st.pose, body.segment_index(f"foot_{s}"), body.foot.points(s))
+           for s in ("r", "l")}  # fmt: skip
+    rows = support_rows(st.feet["r"], pts["r"], "r", wf, mu, r)
+    if dynamics:
+        return rows + support_rows(st.feet["l"], pts["l"], "l", wf, mu, r)
+    both = [pts["l"][0], pts["r"][1], pts["l"][3], pts["r"][3]]
+    return rows + support_rows(st.total, both, "r", wf, mu, r)
+
+
 def node_function(
     body: BodyModel, settings: PredictionSettings, dynamics: bool = True, with_hs: bool = True
 ) -> ca.Function:
@@ -243,12 +261,7 @@ def node_function(
         f = [total, total * POWER_SCALE_W / EN_SCALE]
     else:
         g += [0.0] * (2 * N_T)
-    wf = body.mass * G
-    for side in ("r", "l"):  # root (right) first, then the other foot
-        i = body.segment_index(f"foot_{side}")
-        pts = foot_points(st.pose, i, body.foot.points(side))
-        g += support_rows(st.feet[side], pts, side, wf, settings.friction,
-                          settings.free_moment_radius)  # fmt: skip
+    g += _support(body, settings, st, dynamics)
     return ca.Function("walk3d_node", [y, w0, hw, p, t], [ca.vertcat(*g), ca.vertcat(*f)])
 
 
@@ -322,10 +335,12 @@ def bounds(
         glo[k, R["ball_norm"]], ghi[k, R["ball_norm"]] = 0.0, BALL_NORM_MAX
         if slack:
             glo[k, R["slack_pos"]] = glo[k, R["slack_neg"]] = 0.0
-        if dynamics and k > 0:
+        if dynamics and k > 0 or not dynamics and sch.swing[k]:
             glo[k, R["root_support"]] = 0.0
         if dynamics and sch.double_support[k]:
             glo[k, R["other_support"]] = 0.0
+        if not dynamics and sch.double_support[k]:  # total COP under both feet (no twist limit)
+            glo[k, R["other_support"].start : R["other_support"].start + 4] = 0.0
     n_lift = n_nodes * N_Y
     _, rlo, rhi = range_rows(body, settings)
     lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo])
