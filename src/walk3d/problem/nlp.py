@@ -323,7 +323,8 @@ def bounds(
             glo[k, loop], ghi[k, loop] = 0.0, 0.0
         if sch.swing[k]:
             glo[k, R["other_points_y"]] = 0.0
-        if sch.double_support[k]:
+        if dynamics and sch.double_support[k]:  # (constant zero rows in the first stage:
+            # bounding them would pin IPOPT's slacks at their bounds)
             glo[k, R["other_force"].start] = 0.0
             ghi[k, R["other_force"].start + 1 : R["other_force"].stop] = 0.0
         ghi[k, R["ankle_separation"]] = -settings.min_ankle_separation
