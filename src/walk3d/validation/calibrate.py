@@ -22,7 +22,6 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.io.calibration import read_calibration, write_calibration
-from walk3d.io.external_loads import extract_foot_loads
 from walk3d.io.storage import read_storage
 from walk3d.validation.calibration import (
     Calibration,
@@ -30,7 +29,7 @@ from walk3d.validation.calibration import (
     fit_rollover_from_trial,
     fit_transition,
 )
-from walk3d.validation.descriptors import descriptors_from_trial
+from walk3d.validation.descriptors import descriptors_from_trial, foot_loads
 from walk3d.validation.figures import rollover_figure, transition_figure
 from walk3d.validation.kinematics import kinematics_from_storage
 
@@ -57,7 +56,7 @@ def calibrate_from_trial(
 ) -> CalibrationResult:
     """Calibrate ``body``'s subject from one trial; write ``out`` (and figures) when given."""
     ik_s = read_storage(ik)
-    loads = extract_foot_loads(grf)
+    loads = foot_loads(grf)
     desc = descriptors_from_trial(ik_s, loads, threshold=threshold, speed=speed)
     kin = kinematics_from_storage(ik_s)
     rollover, quality, samples = fit_rollover_from_trial(body, kin, desc.events)

@@ -32,7 +32,13 @@ from walk3d.io.events import FootEvents, detect_foot_events, stride_periods
 from walk3d.io.external_loads import FootLoads, extract_foot_loads, find_plates
 from walk3d.io.storage import Storage, read_storage
 
-__all__ = ["GaitDescriptors", "descriptors_from_trial", "foot_events", "half_cycle_lag"]
+__all__ = [
+    "GaitDescriptors",
+    "descriptors_from_trial",
+    "foot_events",
+    "foot_loads",
+    "half_cycle_lag",
+]
 
 _SAGITTAL = ("hip_flexion", "knee_angle", "ankle_angle")
 
@@ -64,7 +70,8 @@ def _as_storage(x: Storage | str | PathLike[str]) -> Storage:
     return x if isinstance(x, Storage) else read_storage(x)
 
 
-def _as_loads(x: FootLoads | Storage | str | PathLike[str]) -> FootLoads:
+def foot_loads(x: FootLoads | Storage | str | PathLike[str]) -> FootLoads:
+    """Foot loads of a GRF file or storage (a clear error when it has no plate columns)."""
     if isinstance(x, FootLoads):
         return x
     storage = _as_storage(x)
@@ -160,7 +167,7 @@ def descriptors_from_trial(
         ValueError: Too few events for a period or a double support, or no usable speed.
         DataFileError: A file is malformed.
     """
-    loads = _as_loads(grf)
+    loads = foot_loads(grf)
     storage = None if ik is None else _as_storage(ik)
     events = foot_events(loads, threshold)
     notes = []

@@ -23,9 +23,9 @@ from pathlib import Path
 import numpy as np
 
 from walk3d.io.events import mean_sd, normalize_cycles
-from walk3d.io.external_loads import FootLoads, extract_foot_loads, find_plates
+from walk3d.io.external_loads import FootLoads, find_plates
 from walk3d.io.storage import Storage, read_storage
-from walk3d.validation.descriptors import GaitDescriptors, descriptors_from_trial
+from walk3d.validation.descriptors import GaitDescriptors, descriptors_from_trial, foot_loads
 from walk3d.validation.quantities import MIRRORED_ON_LEFT, QUANTITIES, Quantity
 from walk3d.validation.reference import N_PERCENT, Reference, detect_knee_sign
 
@@ -74,7 +74,7 @@ def load_trial(
         return None if x is None else (x if isinstance(x, Storage) else read_storage(x))
 
     ik_s, grf_s, id_s = read(ik), read(grf), read(inverse_dynamics)
-    loads = None if grf_s is None else extract_foot_loads(grf_s)
+    loads = None if grf_s is None else foot_loads(grf_s)
     desc = None
     if loads is not None:
         desc = descriptors_from_trial(ik_s, loads, threshold=threshold, speed=speed)
