@@ -2,24 +2,16 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 import pytest
+from validation_support import shared_data_dir
 
 from walk3d.body.model import build_body
 from walk3d.problem import layout
 from walk3d.problem.settings import PredictionSettings
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
-
-REPO = Path(__file__).resolve().parents[2]
-
-
-def shared_data_dir() -> Path:
-    """``$WALK3D_SHARED_DATA`` if set, else ``../shared/data`` beside the repository."""
-    env = os.environ.get("WALK3D_SHARED_DATA")
-    return Path(env) if env else REPO.parent / "shared" / "data"
 
 
 @pytest.fixture(scope="session")
@@ -59,10 +51,3 @@ def synthetic_prediction():
     ev = evaluate_cycle(body, settings, x)
     summary = {"inputs": settings.model_dump(), "objective": ev.criteria}
     return make_prediction(ev.prediction_arrays, summary)
-
-
-def cli_env() -> dict[str, str]:
-    """Environment for ``python -m walk3d.cli`` subprocesses running this checkout's code."""
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(REPO / "src"), env.get("PYTHONPATH", "")])
-    return env

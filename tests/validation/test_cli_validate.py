@@ -4,7 +4,7 @@ import subprocess
 import sys
 
 import pytest
-from conftest import cli_env
+from validation_support import cli_env
 
 from walk3d.results.prediction import save_prediction
 

@@ -42,6 +42,8 @@ class CalibrationResult:
     transition: TransitionCheck
     path: Path | None
     figures: tuple[Path, ...]
+    rollover_samples: tuple[np.ndarray, np.ndarray]
+    """Pooled stance samples ``(s, ankle (n, 3))`` behind the roll-over fit (Fig. 2)."""
 
 
 def calibrate_from_trial(
@@ -88,7 +90,7 @@ def calibrate_from_trial(
             figs.append(rollover_figure(samples, rollover, body.rollover,
                                         f"{stem}_rollover.png"))  # fmt: skip
             figs.append(transition_figure(check, f"{stem}_transition.png"))
-    return CalibrationResult(cal, check, path, tuple(figs))
+    return CalibrationResult(cal, check, path, tuple(figs), samples)
 
 
 def load_calibration(path: str | PathLike[str]) -> Calibration:

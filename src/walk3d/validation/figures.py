@@ -34,11 +34,11 @@ _STYLES = ("-", "-.", ":", "--")
 _COLORS = ("tab:red", "tab:blue", "tab:green", "tab:purple")
 
 
-def _figure(rows: int, cols: int, width: float, height: float):
+def _figure(rows: int, cols: int, width: float, height: float, dpi: float = 100.0):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(width, height), dpi=100)
+    fig = Figure(figsize=(width, height), dpi=dpi)
     FigureCanvasAgg(fig)
     axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
     return fig, axes
@@ -67,8 +67,9 @@ def comparison_figures(
         qs = [q for q in QUANTITIES if q.group == group]
         cols = 3 if len(qs) <= 9 else 4
         rows = math.ceil(len(qs) / cols)
-        fig, axes = _figure(rows, cols, 4.0 * cols, 2.7 * rows + 0.8)
-        fig.subplots_adjust(left=0.06, right=0.98, bottom=0.07, top=1 - 0.7 / (2.7 * rows + 0.8),
+        height = 2.7 * rows + 1.2
+        fig, axes = _figure(rows, cols, 4.0 * cols, height, dpi=75.0)
+        fig.subplots_adjust(left=0.06, right=0.98, bottom=0.5 / height, top=1 - 0.7 / height,
                             hspace=0.55, wspace=0.28)  # fmt: skip
         for ax, q in zip(axes, qs, strict=False):
             x = comparisons[0].percent
