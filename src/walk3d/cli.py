@@ -259,10 +259,6 @@ def _descriptors_from_trial(ctx, from_trial, grf, **given: float) -> tuple[float
     return values["speed"], values["period"], values["double_support"]
 
 
-def _fmt(value, digits: int = 3) -> str:
-    return "-" if value is None or value != value else f"{value:.{digits}f}"
-
-
 @app.command()
 def validate(
     pred_dir: Annotated[str, typer.Argument(help="Prediction folder (walk3d predict --out).")],
@@ -285,6 +281,7 @@ def validate(
     from walk3d.io.errors import DataFileError
     from walk3d.results.prediction import load_result
     from walk3d.validation.run import validate as run
+    from walk3d.validation.tables import table2, table3
 
     try:
         pred = load_result(pred_dir)
@@ -298,23 +295,9 @@ def validate(
             v = run({"prediction": pred}, reference, target, threshold=threshold, speed=speed)
     except (OSError, DataFileError, ValueError, KeyError) as exc:
         fail(" ".join(str(exc).split()))
-    t = Table(title=f"Table 2: {pred_dir} vs {v.reference.name}")
-    for col in ("quantity", "unit", "RMSE", "r", "ref. SD", "status"):
-        t.add_column(col)
-    for row in v.table2:
-        t.add_row(row["label"], row["unit"], _fmt(row["rmse"]), _fmt(row["r"], 2),
-                  _fmt(row["reference_sd"]), row["status"])  # fmt: skip
-    console.print(t)
+    console.print(table2(v, f"Table 2: {pred_dir} vs {v.reference.name}"))
     if v.table3:
-        t3 = Table(title="Table 3: criteria and their x/y/z split")
-        for col in ("source", "criterion", "total", "z", "x", "y"):
-            t3.add_column(col)
-        for k in range(0, len(v.table3), 4):
-            block = {r["component"]: r for r in v.table3[k : k + 4]}
-            tot = block["total"]
-            cells = [f"{block[c]['percent']:.0f}% ({block[c]['value']:.4g})" for c in "zxy"]
-            t3.add_row(tot["source"], tot["criterion"], f"{tot['value']:.4g}", *cells)
-        console.print(t3)
+        console.print(table3(v.table3))
     if v.fit is not None:
         worst = max(v.fit.rmse_deg.items(), key=lambda kv: kv[1])
         console.print(
@@ -349,6 +332,7 @@ def calibrate(
     from walk3d.body.model import build_body
     from walk3d.io.errors import DataFileError
     from walk3d.validation.calibrate import calibrate_from_trial
+    from walk3d.validation.tables import calibration_table
 
     if sex not in ("male", "female"):
         fail(f"--sex must be 'male' or 'female', got {sex!r}")
@@ -361,25 +345,7 @@ def calibrate(
             result = calibrate_from_trial(ik, grf, body, out, threshold=threshold, speed=speed)
     except (OSError, DataFileError, ValueError) as exc:
         fail(" ".join(str(exc).split()))
-    cal, check = result.calibration, result.transition
-    t = Table(title=f"walk3d calibrate -> {out}")
-    t.add_column("quantity")
-    t.add_column("value")
-    d = cal.descriptors
-    t.add_row("descriptors", f"V {d['speed_m_per_s']:.4f} m/s, T {d['period_s']:.4f} s, "
-              f"Td {d['double_support_s']:.4f} s ({d['period_method']})")  # fmt: skip
-    q = cal.quality["rollover"]
-    t.add_row("roll-over", f"{q['stances']} stance(s), theta {q['theta_range_deg'][0]:.0f}.."
-              f"{q['theta_range_deg'][1]:.0f} deg, spline RMS {1000 * q['rms_m']:.1f} mm, "
-              f"ankle drift at foot flat {1000 * q['flat_drift_m']:.1f} mm")  # fmt: skip
-    r = cal.ratios
-    t.add_row("transition ratios", f"mu_x {r.mu_x:.3f}, mu_z {r.mu_z:.3f}, "
-              f"varpi_x {r.varpi_x:.3f}, varpi_y {r.varpi_y:.3f}")  # fmt: skip
-    t.add_row("transition RMSE (fitted)", ", ".join(f"{k} {v:.3f}" for k, v in check.rmse.items()))
-    hs_rmse = check.rmse_heel_strike_ratios
-    t.add_row("transition RMSE (heel-strike ratios)",
-              ", ".join(f"{k} {v:.3f}" for k, v in hs_rmse.items()))  # fmt: skip
-    console.print(t)
+    console.print(calibration_table(result, f"walk3d calibrate -> {out}"))
     console.print("units: forces N/kg, moments N m/kg; figures: " +
                   ", ".join(str(p) for p in result.figures), markup=False)  # fmt: skip
 
