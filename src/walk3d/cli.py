@@ -36,6 +36,13 @@ DoubleSupport = Annotated[
 Criterion = Annotated[str, typer.Option("--criterion", help="tor or en.")]
 SolverName = Annotated[str, typer.Option("--solver", help="ipopt or sqp.")]
 Nodes = Annotated[int, typer.Option("--nodes", help="Time nodes per half cycle.")]
+FromTrial = Annotated[
+    str | None,
+    typer.Option(
+        "--from-trial", help="IK .mot of a measured trial: V, T and Td from it (needs --grf)."
+    ),
+]
+TrialGrf = Annotated[str | None, typer.Option("--grf", help="GRF .mot of the --from-trial trial.")]
 
 
 def fail(message: str, code: int = 2) -> None:
@@ -109,6 +116,7 @@ def _settings(criterion: str, solver: str, seed: int, **fields):
 
 @app.command()
 def predict(
+    ctx: typer.Context,
     out: Annotated[str, typer.Option("--out", help="Result folder (created).")],
     speed: Speed = 1.3806,
     period: Period = 1.08,
@@ -120,10 +128,16 @@ def predict(
     seed: Annotated[int, typer.Option("--seed", help="Random start.")] = 0,
     solver: SolverName = "ipopt",
     nodes: Nodes = 20,
+    from_trial: FromTrial = None,
+    grf: TrialGrf = None,
 ) -> None:
     """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot and
     summary.png. Exit code 0 if the solve converged, 1 if not (results are still written and
-    labelled), 2 for bad input."""
+    labelled), 2 for bad input. With --from-trial IK.mot --grf GRF.mot, V, T and Td come from
+    the trial unless --speed, --period or --double-support are given explicitly."""
+    speed, period, double_support = _descriptors_from_trial(
+        ctx, from_trial, grf, speed=speed, period=period, double_support=double_support
+    )
     settings = _settings(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes,
@@ -214,6 +228,126 @@ def campaign(
         console.print("no start converged: no best/ folder was written")
         raise typer.Exit(1)
     console.print(f"best converged start: seed {report.best_seed}, copied to {out}/best/")
+
+
+# --- measured trials and validation (issue 5) ---------------------------------------------------
+def _descriptors_from_trial(ctx, from_trial, grf, **given: float) -> tuple[float, float, float]:
+    """V, T, Td for predict: the trial's, except options given explicitly on the command line."""
+    if from_trial is None and grf is None:
+        return given["speed"], given["period"], given["double_support"]
+    if from_trial is None or grf is None:
+        fail("--from-trial and --grf go together")
+    from walk3d.validation.descriptors import descriptors_from_trial
+
+    explicit = {
+        k for k in given if getattr(ctx.get_parameter_source(k), "name", "") == "COMMANDLINE"
+    }
+    speed = given["speed"] if "speed" in explicit else None
+    try:
+        d = descriptors_from_trial(from_trial, grf, speed=speed)
+    except (OSError, ValueError) as exc:
+        fail(" ".join(str(exc).split()))
+    values = {"speed": d.speed, "period": d.period, "double_support": d.double_support}
+    values.update({k: given[k] for k in explicit})
+    console.print(
+        f"descriptors from {from_trial}: V = {values['speed']:.4f} m/s, "
+        f"T = {values['period']:.4f} s, Td = {values['double_support']:.4f} s "
+        f"(period: {d.period_method})",
+        markup=False,
+        soft_wrap=True,
+    )
+    return values["speed"], values["period"], values["double_support"]
+
+
+@app.command()
+def validate(
+    pred_dir: Annotated[str, typer.Argument(help="Prediction folder (walk3d predict --out).")],
+    reference: Annotated[
+        list[str],
+        typer.Option("--reference", help="Cycle table .csv, or trial IK/GRF/ID storages (repeat)."),
+    ],
+    out: Annotated[
+        str | None, typer.Option("--out", help="Output folder (default PRED_DIR/validation).")
+    ] = None,
+    threshold: Annotated[
+        float, typer.Option("--threshold", help="Force-plate contact threshold, N.")
+    ] = 20.0,
+    speed: Annotated[
+        float | None, typer.Option("--speed", help="Belt speed for treadmill trials, m/s.")
+    ] = None,
+) -> None:
+    """Compare a prediction with measured walking: Table 2 (RMSE and r per quantity), Table 3
+    (criteria and their x/y/z split) and figures, written to --out."""
+    from walk3d.io.errors import DataFileError
+    from walk3d.results.prediction import load_result
+    from walk3d.validation.run import validate as run
+    from walk3d.validation.tables import table2, table3
+
+    try:
+        pred = load_result(pred_dir)
+    except (OSError, DataFileError) as exc:
+        fail(f"cannot read the prediction {pred_dir}: {' '.join(str(exc).split())}")
+    target = out if out is not None else os.path.join(pred_dir, "validation")
+    if threshold <= 0:
+        fail(f"--threshold must be positive, got {threshold}")
+    try:
+        with console.status("walk3d: validating"):
+            v = run({"prediction": pred}, reference, target, threshold=threshold, speed=speed)
+    except (OSError, DataFileError, ValueError, KeyError) as exc:
+        fail(" ".join(str(exc).split()))
+    console.print(table2(v, f"Table 2: {pred_dir} vs {v.reference.name}"))
+    if v.table3:
+        console.print(table3(v.table3))
+    if v.fit is not None:
+        worst = max(v.fit.rmse_deg.items(), key=lambda kv: kv[1])
+        console.print(
+            f"fit of the measured angles ({v.fit_source}): largest RMSE {worst[1]:.2f} deg "
+            f"({worst[0]}); per DoF in measured_fit.csv",
+            markup=False,
+        )
+    for note in v.notes:
+        console.print(f"note: {note}", markup=False)
+    console.print(f"written to {target}: " + ", ".join(p.name for p in v.files.values()),
+                  markup=False)  # fmt: skip
+
+
+@app.command()
+def calibrate(
+    ik: Annotated[str, typer.Option("--ik", help="IK .mot of a measured trial.")],
+    grf: Annotated[str, typer.Option("--grf", help="GRF .mot of the same trial.")],
+    out: Annotated[str, typer.Option("--out", help="Calibration file to write (.json).")],
+    mass: Mass = 68.8,
+    height: Height = 1.77,
+    sex: Sex = "male",
+    threshold: Annotated[
+        float, typer.Option("--threshold", help="Force-plate contact threshold, N.")
+    ] = 20.0,
+    speed: Annotated[
+        float | None, typer.Option("--speed", help="Belt speed for treadmill trials, m/s.")
+    ] = None,
+) -> None:
+    """Fit the stance-foot roll-over and the double-support transition ratios to a trial and
+    write them to a calibration file, with the figures OUT_rollover.png and
+    OUT_transition.png beside it."""
+    from walk3d.body.model import build_body
+    from walk3d.io.errors import DataFileError
+    from walk3d.validation.calibrate import calibrate_from_trial
+    from walk3d.validation.tables import calibration_table
+
+    if sex not in ("male", "female"):
+        fail(f"--sex must be 'male' or 'female', got {sex!r}")
+    try:
+        body = build_body(mass, height, sex)
+    except ValueError as exc:
+        fail(str(exc))
+    try:
+        with console.status("walk3d: calibrating"):
+            result = calibrate_from_trial(ik, grf, body, out, threshold=threshold, speed=speed)
+    except (OSError, DataFileError, ValueError) as exc:
+        fail(" ".join(str(exc).split()))
+    console.print(calibration_table(result, f"walk3d calibrate -> {out}"))
+    console.print("units: forces N/kg, moments N m/kg; figures: " +
+                  ", ".join(str(p) for p in result.figures), markup=False)  # fmt: skip
 
 
 @app.callback()

@@ -1,10 +1,12 @@
-"""File readers and writers of walk3d: OpenSim storages and ExternalLoads, TRC, C3D, cycle tables.
+"""File readers and writers of walk3d: OpenSim storages and ExternalLoads, TRC, C3D, cycle tables,
+calibration files and result tables.
 
 Gait-event detection and cycle normalisation for measured data live in :mod:`walk3d.io.events`.
 Every malformed or truncated file raises :class:`~walk3d.io.errors.DataFileError`.
 """
 
 from walk3d.io.c3d import AnalogData, C3dData, ForcePlatform, PointData, read_c3d
+from walk3d.io.calibration import read_calibration, write_calibration
 from walk3d.io.cycle_table import CycleTable, read_cycle_table
 from walk3d.io.errors import DataFileError
 from walk3d.io.events import (
@@ -29,6 +31,7 @@ from walk3d.io.external_loads import (
     write_grf_storage,
 )
 from walk3d.io.storage import Storage, read_storage, write_storage
+from walk3d.io.tables import write_csv_table
 from walk3d.io.trc import TrcData, read_trc
 
 __all__ = [
@@ -37,6 +40,9 @@ __all__ = [
     "ForcePlatform",
     "PointData",
     "read_c3d",
+    "read_calibration",
+    "write_calibration",
+    "write_csv_table",
     "CycleTable",
     "DataFileError",
     "ExternalForceSpec",

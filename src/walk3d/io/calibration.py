@@ -1,0 +1,106 @@
+"""Calibration files (JSON): the fitted roll-over and transition ratios of a subject.
+
+Layout (version 1; SI units)::
+
+    {
+      "walk3d_calibration": 1,
+      "rollover": {"s": [...], "ankle_m": [[dx, y, dz], ...], "measured_s_range": [lo, hi]},
+      "transition": {"mu_x": ..., "mu_z": ..., "varpi_x": ..., "varpi_y": ...},
+      "subject": {...}, "descriptors": {...}, "quality": {...}, "source": {...}
+    }
+
+``s`` are the roll-over knots (``sin(θ/2)`` of the foot rotation, strictly increasing, at least
+three) and ``ankle_m`` the ankle displacement at each knot (:class:`walk3d.kinematics.rollover.
+RollOver`). The last four objects are free-form records. :func:`read_calibration` checks the
+layout and raises :class:`~walk3d.io.errors.DataFileError` naming the file and line.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping
+from os import PathLike
+from pathlib import Path
+from typing import Any
+
+from walk3d.io._atomic import atomic_write_text
+from walk3d.io.errors import DataFileError
+
+__all__ = ["CALIBRATION_VERSION", "read_calibration", "write_calibration"]
+
+CALIBRATION_VERSION = 1
+_RATIOS = ("mu_x", "mu_z", "varpi_x", "varpi_y")
+
+
+def _default(value: Any) -> Any:
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    if hasattr(value, "item"):
+        return value.item()
+    raise TypeError(f"value of type {type(value).__name__} is not JSON serialisable")
+
+
+def write_calibration(path: str | PathLike[str], data: Mapping[str, Any]) -> Path:
+    """Write a calibration dictionary (see the module doc) as indented JSON, atomically."""
+    text = json.dumps(dict(data), indent=2, sort_keys=True, default=_default, allow_nan=False)
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    return atomic_write_text(target, text + "\n")
+
+
+def _line_of(text: str, key: str) -> int | None:
+    at = text.find(f'"{key}"')
+    return None if at < 0 else text.count("\n", 0, at) + 1
+
+
+def _number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def read_calibration(path: str | PathLike[str]) -> dict[str, Any]:
+    """Read and check a calibration file; returns the parsed dictionary.
+
+    Raises:
+        FileNotFoundError: No such file.
+        DataFileError: Not JSON, another version, or a missing or malformed entry.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise DataFileError(path, "not a text file (invalid UTF-8)") from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise DataFileError(path, f"invalid JSON: {exc.msg}", exc.lineno) from None
+
+    def fail(reason: str, key: str | None = None) -> DataFileError:
+        return DataFileError(path, reason, _line_of(text, key) if key else None)
+
+    if not isinstance(data, dict):
+        raise fail("a calibration file is a JSON object")
+    version = data.get("walk3d_calibration")
+    if version != CALIBRATION_VERSION:
+        raise fail(f"not a walk3d calibration of version {CALIBRATION_VERSION} "
+                   f"('walk3d_calibration' is {version!r})", "walk3d_calibration")  # fmt: skip
+    ro = data.get("rollover")
+    if not isinstance(ro, dict):
+        raise fail("missing 'rollover' object", "rollover")
+    s, ankle = ro.get("s"), ro.get("ankle_m")
+    if not isinstance(s, list) or len(s) < 3 or not all(_number(v) for v in s):
+        raise fail("'rollover.s' must be a list of at least 3 numbers", "s")
+    if any(b <= a for a, b in zip(s[:-1], s[1:], strict=True)):
+        raise fail("'rollover.s' must be strictly increasing", "s")
+    if (not isinstance(ankle, list) or len(ankle) != len(s)
+            or not all(isinstance(p, list) and len(p) == 3 and all(_number(c) for c in p)
+                       for p in ankle)):  # fmt: skip
+        raise fail(f"'rollover.ankle_m' must hold {len(s)} [x, y, z] number triples", "ankle_m")
+    tr = data.get("transition")
+    if not isinstance(tr, dict):
+        raise fail("missing 'transition' object", "transition")
+    for key in _RATIOS:
+        if not _number(tr.get(key)):
+            raise fail(f"'transition.{key}' must be a finite number", key if key in tr else
+                       "transition")  # fmt: skip
+    return data

@@ -1,0 +1,98 @@
+"""``walk3d calibrate``: a trial's roll-over and transition ratios into a calibration file.
+
+:func:`calibrate_from_trial` reads the IK and GRF files, derives the descriptors, fits the
+roll-over and the transition ratios (:mod:`walk3d.validation.calibration`), writes the JSON file
+(:func:`walk3d.io.write_calibration`) and the two figures (``<stem>_rollover.png``,
+``<stem>_transition.png``) beside it. :func:`load_calibration` reads a file back.
+
+Using a calibration in a prediction: :func:`walk3d.validation.calibration.apply_calibration`
+returns the body model with the calibrated roll-over; the ratios go to
+:func:`walk3d.contact.transition.apply_ratios`. ``walk3d predict`` does not take
+``--calibration`` yet: the solver builds its body and its double-support split internally
+(``walk3d.problem``/``walk3d.solve``), which this module does not change.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from os import PathLike
+from pathlib import Path
+
+import numpy as np
+
+from walk3d.body.model import BodyModel
+from walk3d.io.calibration import read_calibration, write_calibration
+from walk3d.io.storage import read_storage
+from walk3d.validation.calibration import (
+    Calibration,
+    TransitionCheck,
+    fit_rollover_from_trial,
+    fit_transition,
+)
+from walk3d.validation.descriptors import descriptors_from_trial, foot_loads
+from walk3d.validation.figures import rollover_figure, transition_figure
+from walk3d.validation.kinematics import kinematics_from_storage
+
+__all__ = ["CalibrationResult", "calibrate_from_trial", "load_calibration"]
+
+
+@dataclass(frozen=True)
+class CalibrationResult:
+    calibration: Calibration
+    transition: TransitionCheck
+    path: Path | None
+    figures: tuple[Path, ...]
+    rollover_samples: tuple[np.ndarray, np.ndarray]
+    """Pooled stance samples ``(s, ankle (n, 3))`` behind the roll-over fit (Fig. 2)."""
+
+
+def calibrate_from_trial(
+    ik: str | PathLike[str],
+    grf: str | PathLike[str],
+    body: BodyModel,
+    out: str | PathLike[str] | None = None,
+    *,
+    threshold: float = 20.0,
+    speed: float | None = None,
+    figures: bool = True,
+) -> CalibrationResult:
+    """Calibrate ``body``'s subject from one trial; write ``out`` (and figures) when given."""
+    ik_s = read_storage(ik)
+    loads = foot_loads(grf)
+    desc = descriptors_from_trial(ik_s, loads, threshold=threshold, speed=speed)
+    kin = kinematics_from_storage(ik_s)
+    rollover, quality, samples = fit_rollover_from_trial(body, kin, desc.events)
+    check = fit_transition(body, kin, loads, desc.events, body.mass, threshold)
+    measured_s = (float(samples[0].min()), float(samples[0].max()))
+    values = np.column_stack(rollover.evaluate(np.array(rollover.knots))[0])
+    ankle = tuple((float(x), float(y), float(z)) for x, y, z in values)
+    cal = Calibration(
+        rollover_s=tuple(float(k) for k in rollover.knots),
+        rollover_ankle=ankle,
+        measured_s_range=measured_s,
+        ratios=check.ratios,
+        subject={"mass_kg": body.mass, "height_m": body.height, "sex": body.sex},
+        descriptors=desc.as_dict(),
+        quality={
+            "rollover": quality,
+            "transition_rmse": check.rmse,
+            "transition_rmse_heel_strike_ratios": check.rmse_heel_strike_ratios,
+            "transition_units": "forces N/kg, moments N m/kg about the trailing ankle",
+            "knee_sign": kin.knee_sign,
+        },
+        source={"ik": str(ik), "grf": str(grf), "threshold_N": threshold},
+    )
+    path, figs = None, []
+    if out is not None:
+        path = write_calibration(out, cal.to_dict())
+        if figures:
+            stem = path.with_suffix("")
+            figs.append(rollover_figure(samples, rollover, body.rollover,
+                                        f"{stem}_rollover.png"))  # fmt: skip
+            figs.append(transition_figure(check, f"{stem}_transition.png"))
+    return CalibrationResult(cal, check, path, tuple(figs), samples)
+
+
+def load_calibration(path: str | PathLike[str]) -> Calibration:
+    """Read a calibration file (checked by :func:`walk3d.io.read_calibration`)."""
+    return Calibration.from_dict(read_calibration(path))

@@ -1,0 +1,124 @@
+"""Table 2: a prediction against a measured reference, quantity by quantity.
+
+Alignment. Measured cycles run from right heel strike (0 %) to the next (100 %). A walk3d cycle
+starts at right toe off (:mod:`walk3d.contact.phases`): right heel strike is at
+``t_hs = T/2 - Td``. The prediction, periodic by construction, is therefore read at
+``t = (t_hs + p T / 100) mod T`` for ``p = 0, 1, ..., 100`` (101 samples, the two ends being the
+same instant), with linear interpolation between its time nodes. ``T`` and ``Td`` come from the
+prediction's ``summary["inputs"]``; without them, ``T`` is the span of ``pred.time`` and the heel
+strike is where the right foot's vertical force first rises above 20 N.
+
+Scores, per quantity, over the 101 samples: RMSE between prediction and reference mean, and
+Pearson's correlation coefficient ``r`` (NaN when either series is constant). A quantity missing
+on either side is kept as a row with status ``missing in reference`` / ``missing in
+prediction`` and NaN scores, never dropped.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from walk3d.io.events import detect_contacts
+from walk3d.results.prediction import Prediction
+from walk3d.validation.quantities import QUANTITIES, Quantity, prediction_series
+from walk3d.validation.reference import N_PERCENT, Reference
+
+__all__ = ["Comparison", "Row", "align_prediction", "compare", "cycle_timing", "rmse"]
+
+
+@dataclass(frozen=True)
+class Row:
+    """One line of Table 2."""
+
+    quantity: Quantity
+    rmse: float
+    r: float
+    status: str
+    """``ok``, ``missing in reference`` or ``missing in prediction``."""
+    reference_sd: float
+    """Mean SD of the reference over the cycle (NaN when unknown): the scale of the measured
+    variability against which the RMSE can be read."""
+    n_cycles: int | None
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Table 2 plus the aligned series behind it (for figures)."""
+
+    prediction_name: str
+    reference: Reference
+    percent: np.ndarray
+    predicted: dict[str, np.ndarray]
+    rows: tuple[Row, ...]
+
+    def row(self, key: str) -> Row:
+        for r in self.rows:
+            if r.quantity.key == key:
+                return r
+        raise KeyError(f"no row {key!r}")
+
+
+def rmse(a: np.ndarray, b: np.ndarray) -> float:
+    """Root mean square of ``a - b`` over samples where both are finite (NaN if none)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    ok = np.isfinite(a) & np.isfinite(b)
+    return float(np.sqrt(np.mean((a[ok] - b[ok]) ** 2))) if ok.any() else float("nan")
+
+
+def _pearson(a: np.ndarray, b: np.ndarray) -> float:
+    ok = np.isfinite(a) & np.isfinite(b)
+    a, b = a[ok], b[ok]
+    if a.size < 3 or np.ptp(a) == 0 or np.ptp(b) == 0:
+        return float("nan")
+    return float(np.corrcoef(a, b)[0, 1])
+
+
+def cycle_timing(pred: Prediction) -> tuple[float, float]:
+    """``(T, t_hs)``: the period and the right heel-strike time of a prediction (module doc)."""
+    inputs = pred.summary.get("inputs", {}) if isinstance(pred.summary, dict) else {}
+    period = inputs.get("period") if isinstance(inputs, dict) else None
+    td = inputs.get("double_support") if isinstance(inputs, dict) else None
+    if isinstance(period, (int, float)) and isinstance(td, (int, float)) and period > 0:
+        return float(period), float(period) / 2 - float(td)
+    t = pred.time
+    period = float(t[-1] - t[0])
+    if period <= 0:
+        raise ValueError("the prediction has no period: summary lacks inputs and time is empty")
+    strikes = detect_contacts(t, pred.grf_force[:, 0, 1], 20.0, min_contact=0.0).heel_strikes
+    if strikes.size == 0:
+        raise ValueError("cannot find the right heel strike in the prediction")
+    return period, float(strikes[0] - t[0])
+
+
+def align_prediction(pred: Prediction) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Prediction quantities on 0–100 % from right heel strike (module doc), 101 samples."""
+    period, t_hs = cycle_timing(pred)
+    t = pred.time - pred.time[0]
+    keep = t < period - 1e-9 * period  # t = T repeats t = 0
+    percent = np.linspace(0.0, 100.0, N_PERCENT)
+    query = np.mod(t_hs + percent / 100.0 * period, period)
+    series = prediction_series(pred)
+    return percent, {
+        k: np.interp(query, t[keep], v[keep], period=period) for k, v in series.items()
+    }
+
+
+def compare(pred: Prediction, reference: Reference, name: str = "prediction") -> Comparison:
+    """Table 2 of ``pred`` against ``reference`` (module doc)."""
+    percent, predicted = align_prediction(pred)
+    rows = []
+    for q in QUANTITIES:
+        have_p, have_r = q.key in predicted, reference.has(q.key)
+        if not have_r or not have_p:
+            status = "missing in reference" if not have_r else "missing in prediction"
+            rows.append(Row(q, np.nan, np.nan, status, np.nan, None))
+            continue
+        p, m = predicted[q.key], reference.mean[q.key]
+        sd = reference.sd.get(q.key)
+        sd_mean = float(np.nanmean(sd)) if sd is not None and np.isfinite(sd).any() else np.nan
+        rows.append(
+            Row(q, rmse(p, m), _pearson(p, m), "ok", sd_mean, reference.n_cycles.get(q.key))
+        )
+    return Comparison(name, reference, percent, predicted, tuple(rows))

@@ -1,0 +1,222 @@
+"""One validation run: predictions against references, Tables 2 and 3, figures and CSV files.
+
+References are files: cycle tables (``.csv``) and trial storages (``.mot``/``.sto``, recognised
+as IK, GRF or ID by :func:`walk3d.validation.trial.classify_storage`). Table 2 uses the first
+cycle table when there is one, otherwise the trial files cut into cycles. Several trials are
+told apart by their file names with the ``_ik``/``_grf``/``_id`` token removed
+(``gait_1_ik.mot`` + ``gait_1_grf.mot`` → trial ``gait_1``); one file of each kind is always one
+trial.
+
+Table 3 collects, when available: each prediction's own criteria (``summary["objective"]``);
+the criteria from the reference's measured inverse-dynamics moments
+(:func:`walk3d.validation.criteria.criteria_from_reference`); and walk3d's inverse dynamics on
+the measured kinematics fitted with walk3d's Fourier series
+(:func:`walk3d.validation.measured.fit_measured_gait`), from the trial's IK (with the trial's
+V, T, Td) or else from the cycle table's angles (with the prediction's V, T, Td).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from os import PathLike
+from pathlib import Path
+from typing import Any
+
+from walk3d.body.model import build_body
+from walk3d.io.cycle_table import read_cycle_table
+from walk3d.io.storage import read_storage
+from walk3d.io.tables import write_csv_table
+from walk3d.results.prediction import Prediction
+from walk3d.validation.compare import Comparison, compare, cycle_timing
+from walk3d.validation.criteria import criteria_from_reference, table3_rows
+from walk3d.validation.figures import comparison_figures
+from walk3d.validation.kinematics import kinematics_from_storage, kinematics_from_table
+from walk3d.validation.measured import GaitFit, fit_measured_gait
+from walk3d.validation.reference import Reference, reference_from_table
+from walk3d.validation.trial import Trial, classify_storage, load_trial, trial_reference
+
+__all__ = ["Validation", "sort_references", "table2_rows", "validate"]
+
+TABLE3_COLUMNS = ("source", "criterion", "component", "value", "percent", "unit")
+
+
+@dataclass(frozen=True)
+class Validation:
+    """Everything one run computed (see the module doc)."""
+
+    reference: Reference
+    comparisons: tuple[Comparison, ...]
+    table2: list[dict[str, Any]]
+    table2_columns: tuple[str, ...]
+    table3: list[dict[str, Any]]
+    fit: GaitFit | None = None
+    fit_source: str | None = None
+    notes: list[str] = field(default_factory=list)
+    files: dict[str, Path] = field(default_factory=dict)
+
+
+def _trial_key(path: Path) -> str:
+    return re.sub(r"(^|[_\-.])(ik|grf|id|inverse_dynamics)($|[_\-.])", r"\1\3", path.stem,
+                  flags=re.IGNORECASE).strip("_-.")  # fmt: skip
+
+
+def sort_references(paths: Sequence[str | PathLike[str]]) -> tuple[list[Path], list[dict]]:
+    """``(cycle tables, trials)``; each trial is ``{"ik": Storage, "grf": ..., "id": ...}``.
+
+    Raises:
+        FileNotFoundError, DataFileError: unreadable files. ValueError: a file that is neither a
+        cycle table nor an IK/GRF/ID storage, or trial files that cannot be paired.
+    """
+    tables, storages = [], []
+    for raw in paths:
+        path = Path(raw)
+        if not path.is_file():
+            raise FileNotFoundError(f"reference file not found: {path}")
+        if path.suffix.lower() in (".csv", ".txt"):
+            tables.append(path)
+            continue
+        storage = read_storage(path)
+        kind = classify_storage(storage)
+        if kind is None:
+            raise ValueError(f"{path.name}: neither a cycle table nor an IK, GRF or ID storage")
+        storages.append((kind, path, storage))
+    if not storages:
+        return tables, []
+    kinds = [k for k, _, _ in storages]
+    if all(kinds.count(k) <= 1 for k in set(kinds)):
+        return tables, [{k: s for k, _, s in storages}]
+    groups: dict[str, dict] = {}
+    for kind, path, storage in storages:
+        group = groups.setdefault(_trial_key(path), {})
+        if kind in group:
+            raise ValueError(f"two {kind.upper()} files for trial {_trial_key(path)!r}")
+        group[kind] = storage
+    return tables, list(groups.values())
+
+
+def table2_rows(comparisons: Sequence[Comparison]) -> tuple[tuple[str, ...], list[dict]]:
+    """Columns and rows of Table 2 for one or several predictions (same reference)."""
+    single = len(comparisons) == 1
+    cols = ["group", "quantity", "label", "unit", "status", "n_cycles", "reference_sd"]
+    for c in comparisons:
+        cols += ["rmse", "r"] if single else [f"rmse_{c.prediction_name}", f"r_{c.prediction_name}"]
+    rows = []
+    for k, row in enumerate(comparisons[0].rows):
+        q = row.quantity
+        out = {
+            "group": q.group, "quantity": q.name, "label": q.label, "unit": q.unit,
+            "status": row.status, "n_cycles": row.n_cycles, "reference_sd": row.reference_sd,
+        }  # fmt: skip
+        for c in comparisons:
+            r = c.rows[k]
+            suffix = "" if single else f"_{c.prediction_name}"
+            out[f"rmse{suffix}"], out[f"r{suffix}"] = r.rmse, r.r
+        rows.append(out)
+    return tuple(cols), rows
+
+
+def _subject(pred: Prediction) -> tuple[float, float, str, list[str]]:
+    inputs = pred.summary.get("inputs", {}) if isinstance(pred.summary, dict) else {}
+    notes = []
+    mass = float(inputs.get("mass", pred.body_mass))
+    height = inputs.get("height")
+    if not isinstance(height, (int, float)):
+        height = 1.77
+        notes.append("the prediction does not state the height: 1.77 m assumed for the body")
+    sex = inputs.get("sex", "male") if inputs.get("sex") in ("male", "female") else "male"
+    return mass, float(height), sex, notes
+
+
+def validate(
+    predictions: Mapping[str, Prediction],
+    references: Sequence[str | PathLike[str]],
+    out_dir: str | PathLike[str] | None = None,
+    *,
+    threshold: float = 20.0,
+    speed: float | None = None,
+    figures: bool = True,
+) -> Validation:
+    """Run the comparison (module doc); write ``table2.csv``, ``table3.csv``,
+    ``measured_fit.csv`` and the figures to ``out_dir`` when given."""
+    if not predictions:
+        raise ValueError("no prediction to validate")
+    first = next(iter(predictions.values()))
+    mass, height, sex, notes = _subject(first)
+    table_paths, trial_files = sort_references(references)
+    trials: list[Trial] = [
+        load_trial(t.get("ik"), t.get("grf"), t.get("id"), threshold=threshold, speed=speed)
+        for t in trial_files
+    ]
+    tables = [read_cycle_table(p) for p in table_paths]
+    if tables:
+        reference = reference_from_table(tables[0], mass=mass, name=table_paths[0].name)
+    elif trials:
+        if not any(t.descriptors for t in trials):
+            raise ValueError("trial references need a GRF file (events cut the cycles)")
+        reference = trial_reference(trials, mass)
+    else:
+        raise ValueError("no reference file")
+    notes += list(reference.notes)
+    comparisons = tuple(compare(p, reference, name) for name, p in predictions.items())
+    cols2, rows2 = table2_rows(comparisons)
+
+    rows3: list[dict] = []
+    for name, pred in predictions.items():
+        objective = pred.summary.get("objective") if isinstance(pred.summary, dict) else None
+        if isinstance(objective, dict) and "C_tor" in objective and "C_en" in objective:
+            rows3 += table3_rows(objective, f"prediction ({name})")
+    body = build_body(mass, height, sex)
+    timed = next((t for t in trials if t.descriptors is not None), None)
+    period = timed.descriptors.period if (timed and not tables) else cycle_timing(first)[0]
+    crit, missing = criteria_from_reference(reference, body, period)
+    if crit["C_tor"]["total"] > 0:
+        rows3 += table3_rows(crit, f"measurement: ID moments of {reference.name}")
+        if missing:
+            notes.append(f"Table 3 from measured moments leaves out {', '.join(missing)}")
+    fit, fit_source = _measured_fit(body, trials, tables, table_paths, first, notes)
+    if fit is not None:
+        rows3 += table3_rows(fit.criteria, f"measurement: walk3d ID of fitted {fit_source}")
+
+    files: dict[str, Path] = {}
+    if out_dir is not None:
+        out = Path(out_dir)
+        files["table2"] = write_csv_table(out / "table2.csv", cols2, rows2)
+        if rows3:
+            files["table3"] = write_csv_table(out / "table3.csv", TABLE3_COLUMNS, rows3)
+        if fit is not None:
+            rows = [{"dof": k, "rmse_vs_measured_deg": v,
+                     "rmse_vs_fitted_deg": fit.fit_rmse_deg.get(k),
+                     "projection_change_deg": fit.projection_change_deg.get(k)}
+                    for k, v in fit.rmse_deg.items()]  # fmt: skip
+            files["fit"] = write_csv_table(out / "measured_fit.csv", tuple(rows[0]), rows)
+        if figures:
+            files.update(comparison_figures(comparisons, out))
+    return Validation(reference, comparisons, rows2, cols2, rows3, fit, fit_source, notes, files)
+
+
+def _measured_fit(body, trials, tables, table_paths, pred, notes):
+    for t in trials:
+        if t.ik is not None and t.descriptors is not None:
+            d = t.descriptors
+            kin = kinematics_from_storage(t.ik)
+            hs = d.events["right"].heel_strikes
+            if hs.size == 0:
+                continue
+            fit = fit_measured_gait(kin, body, period=d.period, double_support=d.double_support,
+                                    right_heel_strike=float(hs[0]), speed=d.speed)  # fmt: skip
+            return fit, f"IK of {t.name}"
+    if tables:
+        period, t_hs = cycle_timing(pred)
+        inputs = pred.summary.get("inputs", {})
+        speed = float(inputs.get("speed", 1.3)) if isinstance(inputs, dict) else 1.3
+        kin = kinematics_from_table(tables[0], period)
+        if not any(k.startswith("hip_flexion") for k in kin.angles):
+            return None, None
+        td = period / 2 - t_hs
+        fit = fit_measured_gait(kin, body, period=period, double_support=td,
+                                right_heel_strike=0.0, speed=speed)  # fmt: skip
+        notes.append(f"fitted angles of {table_paths[0].name} with the prediction's T and Td")
+        return fit, f"angles of {table_paths[0].name}"
+    return None, None

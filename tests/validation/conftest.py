@@ -1,0 +1,53 @@
+"""Fixtures for the validation tests: the shared lab data and a cheap synthetic prediction."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from validation_support import shared_data_dir
+
+from walk3d.body.model import build_body
+from walk3d.problem import layout
+from walk3d.problem.settings import PredictionSettings
+from walk3d.results.evaluate import evaluate_cycle, make_prediction
+
+
+@pytest.fixture(scope="session")
+def falisse() -> Path:
+    """The Falisse et al. 2019 folder; skips when the shared data is absent."""
+    folder = shared_data_dir() / "falisse2019"
+    if not (folder / "cycle_right_leg_mean_sd.csv").is_file():
+        pytest.skip(f"measured data not found at {folder} (set WALK3D_SHARED_DATA)")
+    return folder
+
+
+@pytest.fixture(scope="session")
+def subject01() -> Path:
+    folder = shared_data_dir() / "opensim_subject01"
+    if not (folder / "subject01_walk1_grf.mot").is_file():
+        pytest.skip(f"measured data not found at {folder} (set WALK3D_SHARED_DATA)")
+    return folder
+
+
+@pytest.fixture(scope="session")
+def winter() -> Path:
+    path = shared_data_dir() / "winter" / "Winter_normal.csv"
+    if not path.is_file():
+        pytest.skip(f"measured data not found at {path} (set WALK3D_SHARED_DATA)")
+    return path
+
+
+@pytest.fixture(scope="session")
+def synthetic_prediction():
+    """A full cycle of a smooth random motion (no optimization), as a Prediction."""
+    settings = PredictionSettings()
+    body = build_body()
+    rng = np.random.default_rng(5)
+    x = rng.uniform(-0.04, 0.04, layout.N_X)
+    x[layout.fixed_zero_mask()] = 0.0
+    x[layout.I_HALF_STEP] = 0.08
+    ev = evaluate_cycle(body, settings, x)
+    summary = {"inputs": settings.model_dump(), "objective": ev.criteria}
+    return make_prediction(ev.prediction_arrays, summary)

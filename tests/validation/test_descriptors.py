@@ -1,0 +1,49 @@
+"""Gait descriptors V, T and Td from trial files."""
+
+import numpy as np
+import pytest
+
+from walk3d.io import Storage
+from walk3d.validation.descriptors import descriptors_from_trial, half_cycle_lag
+
+
+def test_half_cycle_lag_of_a_symmetric_gait_is_half_the_period():
+    period = 1.1
+    t = np.arange(0.0, 2.0, 0.01)
+    cols, data = [], []
+    for name, phase in (("hip_flexion", 0.1), ("knee_angle", 0.3), ("ankle_angle", 0.7)):
+        right = np.sin(2 * np.pi * (t / period + phase)) + 0.3 * np.sin(4 * np.pi * t / period)
+        left = np.sin(2 * np.pi * ((t - period / 2) / period + phase)) + 0.3 * np.sin(
+            4 * np.pi * (t - period / 2) / period
+        )
+        cols += [f"{name}_r", f"{name}_l"]
+        data += [right, left]
+    ik = Storage("synthetic", t, tuple(cols), np.column_stack(data), in_degrees=True)
+    assert half_cycle_lag(ik, guess=0.5) == pytest.approx(period / 2, abs=2e-3)
+
+
+def test_falisse_trial_descriptors(falisse):
+    d = descriptors_from_trial(falisse / "gait_1_ik.mot", falisse / "gait_1_grf.mot")
+    assert 1.26 < d.speed < 1.33  # info.json: 1.2705 m/s for gait_1 (11-trial mean ~1.32)
+    assert 1.03 < d.period < 1.10  # ~1.05 s from stride / speed; one plate step gives 1.11
+    assert d.period_method == "kinematic half-cycle lag"
+    assert 0.61 < d.stance_fraction < 0.68  # stance ~65 % of the cycle
+    assert 0.12 < d.double_support < 0.17
+    assert d.stance_fraction == pytest.approx(0.5 + d.double_support / d.period, abs=0.02)
+    # events: left strikes its plate first, then the right one
+    assert d.events["left"].heel_strikes[0] < d.events["right"].heel_strikes[0]
+
+
+def test_treadmill_needs_the_belt_speed(subject01):
+    ik, grf = subject01 / "subject01_walk1_ik.mot", subject01 / "subject01_walk1_grf.mot"
+    with pytest.raises(ValueError, match="treadmill"):
+        descriptors_from_trial(ik, grf)
+    d = descriptors_from_trial(ik, grf, speed=1.12)
+    assert d.speed == 1.12 and d.period_method == "strides"
+    assert d.period == pytest.approx(1.235, rel=0.03)  # README: cycle about 1.235 s
+    assert d.double_support == pytest.approx(0.17, abs=0.02)
+
+
+def test_grf_file_without_plates_is_refused(falisse):
+    with pytest.raises(ValueError, match="no ground reaction columns"):
+        descriptors_from_trial(falisse / "gait_1_ik.mot", falisse / "gait_1_ik.mot")
