@@ -25,6 +25,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--starts", type=int, default=20)
     ap.add_argument("--criterion", choices=("tor", "en"), default="tor")
     ap.add_argument("--nodes", type=int, default=20)
+    ap.add_argument("--threads", type=int, default=1, help="threads per solve (CasADi map)")
     ap.add_argument("--baseline", action="store_true", help="also run SLSQP on seed 0")
     ap.add_argument("--baseline-time-limit", type=float, default=900.0)
     ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "solve.json"))
@@ -33,7 +34,7 @@ def main(argv: list[str] | None = None) -> int:
     from walk3d.problem.settings import PredictionSettings
     from walk3d.solve import ipopt
 
-    settings = PredictionSettings(criterion=args.criterion, nodes=args.nodes)
+    settings = PredictionSettings(criterion=args.criterion, nodes=args.nodes, threads=args.threads)
     t0 = time.perf_counter()
     ipopt.build_solver(settings)
     build = time.perf_counter() - t0

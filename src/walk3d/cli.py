@@ -43,6 +43,10 @@ FromTrial = Annotated[
     ),
 ]
 TrialGrf = Annotated[str | None, typer.Option("--grf", help="GRF .mot of the --from-trial trial.")]
+CalibrationFile = Annotated[
+    str | None,
+    typer.Option("--calibration", help="Calibration JSON (walk3d calibrate): roll-over, ratios."),
+]
 
 
 def fail(message: str, code: int = 2) -> None:
@@ -128,8 +132,12 @@ def predict(
     seed: Annotated[int, typer.Option("--seed", help="Random start.")] = 0,
     solver: SolverName = "ipopt",
     nodes: Nodes = 20,
+    threads: Annotated[
+        int, typer.Option("--threads", help="Threads for one solve (node evaluations).")
+    ] = 1,
     from_trial: FromTrial = None,
     grf: TrialGrf = None,
+    calibration: CalibrationFile = None,
 ) -> None:
     """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot and
     summary.png. Exit code 0 if the solve converged, 1 if not (results are still written and
@@ -140,7 +148,8 @@ def predict(
     )
     settings = _settings(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
-        mass=mass, height=height, sex=sex, nodes=nodes,
+        mass=mass, height=height, sex=sex, nodes=nodes, threads=threads,
+        **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.predict import predict as run
 
@@ -231,6 +240,24 @@ def campaign(
 
 
 # --- measured trials and validation (issue 5) ---------------------------------------------------
+def _calibration_fields(path: str | None) -> dict:
+    """Settings fields from a calibration file, or one error line and exit 2."""
+    if path is None:
+        return {}
+    from walk3d.io.calibration import read_calibration
+
+    try:
+        d = read_calibration(path)
+    except (OSError, ValueError) as exc:
+        fail(" ".join(str(exc).split()))
+    r, tr = d["rollover"], d["transition"]
+    return {
+        "rollover_s": tuple(float(v) for v in r["s"]),
+        "rollover_ankle": tuple(tuple(float(c) for c in p) for p in r["ankle_m"]),
+        "transition_ratios": tuple(float(tr[k]) for k in ("mu_x", "mu_z", "varpi_x", "varpi_y")),
+    }
+
+
 def _descriptors_from_trial(ctx, from_trial, grf, **given: float) -> tuple[float, float, float]:
     """V, T, Td for predict: the trial's, except options given explicitly on the command line."""
     if from_trial is None and grf is None:

@@ -6,7 +6,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from walk3d import __version__
-from walk3d.problem.settings import PredictionSettings
+from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
 from walk3d.results.prediction import Prediction, save_prediction
 
@@ -47,9 +47,7 @@ def predict(
     outcome = run_solver(settings, seed, solver, on_stage=on_stage)
     if on_stage:
         on_stage("evaluating the cycle")
-    from walk3d.body.model import build_body
-
-    body = build_body(settings.mass, settings.height, settings.sex)
+    body = body_for(settings)
     ev = evaluate_cycle(body, settings, outcome.x)
     pred = make_prediction(ev.prediction_arrays, summarize(settings, seed, outcome, ev, solver))
     if out_dir is not None:

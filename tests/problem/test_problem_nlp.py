@@ -71,29 +71,16 @@ def test_bounds_and_variables_have_matching_sizes(setup):
     g_node = b.lbg[n_lift : n_lift + sch.n * nlp.N_G].reshape(sch.n, nlp.N_G)
     assert np.all(g_node[sch.double_support, rows] == 0)
     assert np.all(np.isinf(g_node[sch.swing, rows]))
+    # the loop is also checked between consecutive double-support nodes
+    t_loop = nlp.loop_check_times(s, sch)
+    assert t_loop.size == s.loop_checks * (sch.double_support.sum() - 1)
+    assert b.lbg.size - (n_lift + sch.n * nlp.N_G + 6) == 6 * t_loop.size
 
 
-def test_structured_derivatives_equal_casadis_own(setup):
-    import casadi as ca
-
-    _, body, _ = setup
-    s = PredictionSettings(nodes=6)
-    prob, _, _ = nlp.build_nlp(body, s, True, derivatives=True)
-    d = prob.pop("derivatives")
-    ref = ca.nlpsol("ref", "ipopt", prob, {"print_time": False, "ipopt.print_level": 0})
-    rng = np.random.default_rng(0)
-    z = rng.uniform(-0.05, 0.05, prob["x"].shape[0])
-    i_w0 = layout.N_X + 6 * nlp.N_Y
-    z[i_w0 : i_w0 + 6] = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
-    z[layout.I_HALF_STEP] = 0.08
-    lam_g = rng.normal(size=prob["g"].shape[0])
-    h_ref = np.array(ref.get_function("nlp_hess_l")(z, [], 0.7, lam_g))
-    h = np.array(d["hess_lag"](z, [], 0.7, lam_g))
-    assert np.max(np.abs(h - h_ref)) < 1e-10 * np.max(np.abs(h_ref))
-    _, j_ref = ref.get_function("nlp_jac_g")(z, [])
-    g, j = d["jac_g"](z, [])
-    np.testing.assert_allclose(np.array(j), np.array(j_ref), atol=1e-12)
-    f_ref, gf_ref = ref.get_function("nlp_grad_f")(z, [])
-    f, gf = d["grad_f"](z, [])
-    np.testing.assert_allclose(float(f), float(f_ref), rtol=1e-13)
-    np.testing.assert_allclose(np.array(gf), np.array(gf_ref), atol=1e-12)
+def test_loop_function_matches_the_node_rows(setup):
+    s, body, fn = setup
+    y, w0, hw, p, t = _random_node(2)
+    g = np.array(fn(y, w0, hw, p, t)[0]).ravel()
+    loop = np.array(nlp.loop_function(body, s)(y[: layout.N_COORD], hw, p[1])).ravel()
+    rows = np.r_[nlp.G_ROWS["loop_position"], nlp.G_ROWS["loop_orientation"]]
+    np.testing.assert_allclose(loop, g[rows], rtol=1e-10, atol=1e-12)

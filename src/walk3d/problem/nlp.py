@@ -31,10 +31,11 @@ from walk3d import G
 from walk3d.body.model import BodyModel
 from walk3d.contact.phases import GaitPhases
 from walk3d.contact.support import foot_points, support_rows
+from walk3d.contact.transition import apply_ratios
 from walk3d.problem import layout
 from walk3d.problem.criteria import POWER_SCALE_W, node_terms
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
-from walk3d.problem.settings import PredictionSettings
+from walk3d.problem.settings import PredictionSettings, ratios_for
 
 N_Y = 3 * layout.N_COORD
 G_ROWS = {
@@ -297,10 +298,16 @@ def _coord_bounds(
 
 
 def bounds(
-    body: BodyModel, settings: PredictionSettings, sch: Schedule, dynamics: bool = True
+    body: BodyModel,
+    settings: PredictionSettings,
+    sch: Schedule,
+    dynamics: bool = True,
+    balance: bool = True,
 ) -> Bounds:
     """Bounds on ``z`` and ``g``. Slacks are fixed at 0 when unused (kinematic stage, smooth
-    criterion form) and free otherwise (``t ≥ u±`` bounds them below)."""
+    criterion form) and free otherwise (``t ≥ u±`` bounds them below). For the kinematic
+    stage, ``balance=False`` leaves the total-reaction rows (force, friction, COP) unbounded:
+    a purely geometric first pass."""
     n_nodes = sch.n
     slack = dynamics and settings.absolute == "slack"
     # x: symmetry-fixed coefficients, half step width
@@ -330,35 +337,55 @@ def bounds(
         ghi[k, R["ankle_separation"]] = -settings.min_ankle_separation
         glo[k, R["torso"]] = np.sin(body.torso_range[:, 0] / 2)
         ghi[k, R["torso"]] = np.sin(body.torso_range[:, 1] / 2)
-        if k > 0:  # at heel strike (node 0) the root foot is unloaded by construction
+        weighted = dynamics or balance
+        if k > 0 and weighted:  # at heel strike (node 0) the root foot is unloaded
             glo[k, R["root_force"].start] = 0.0
             ghi[k, R["root_force"].start + 1 : R["root_force"].stop] = 0.0
         glo[k, R["ball_norm"]], ghi[k, R["ball_norm"]] = 0.0, BALL_NORM_MAX
         if slack:
             glo[k, R["slack_pos"]] = glo[k, R["slack_neg"]] = 0.0
-        if dynamics and k > 0 or not dynamics and sch.swing[k]:
+        if dynamics and k > 0 or not dynamics and balance and sch.swing[k]:
             glo[k, R["root_support"]] = 0.0
         if dynamics and sch.double_support[k]:
             glo[k, R["other_support"]] = 0.0
-        if not dynamics and sch.double_support[k]:  # total COP under both feet (no twist limit)
+        if not dynamics and balance and sch.double_support[k]:  # total COP under both feet
             glo[k, R["other_support"].start : R["other_support"].start + 4] = 0.0
     n_lift = n_nodes * N_Y
     _, rlo, rhi = range_rows(body, settings)
-    lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo])
-    ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6), rhi])
+    n_loop = 6 * loop_check_times(settings, sch).size
+    lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo, np.zeros(n_loop)])
+    ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6), rhi, np.zeros(n_loop)])
     return Bounds(lbz, ubz, lbg, ubg)
 
 
-def build_nlp(
-    body: BodyModel, settings: PredictionSettings, dynamics: bool = True, derivatives: bool = False
-):
-    """Symbolic NLP dict ``{x, f, g}`` (MX calling the per-node SX function), its
-    :class:`Schedule` and the lifting maps ``(n_nodes, 78, N_X)``. With ``derivatives`` the dict
-    also carries ``derivatives``: structured ``grad_f``, ``jac_g``, ``hess_lag`` functions
-    (:mod:`walk3d.problem.derivatives`).
+def loop_function(body: BodyModel, settings: PredictionSettings) -> ca.Function:
+    """``walk3d_loop(c[26], hw, anchor_x) -> loop[6]``: closed-loop position and orientation
+    residuals of the other foot from the 26 coordinate values alone (no rates needed)."""
+    c = ca.SX.sym("c", layout.N_COORD)
+    hw, ax = ca.SX.sym("hw"), ca.SX.sym("ax")
+    zero = 0.0 * c[0]
+    y = [c[i] for i in range(layout.N_COORD)] + [zero] * (2 * layout.N_COORD)
+    st = state_at(body, y, [zero] * 6, hw, 0.0, ax, 1.0, dynamics=False)
+    rows = list(st.loop_position) + list(st.loop_orientation)
+    return ca.Function("walk3d_loop", [c, hw, ax], [ca.vertcat(*rows)])
 
-    The node function is called once through ``map``, so derivatives are generated once per
-    node function and the compiled code stays small.
+
+def loop_check_times(settings: PredictionSettings, sch: Schedule) -> np.ndarray:
+    """Extra loop-closure instants: ``loop_checks`` evenly between consecutive double-support
+    nodes (the loop holds at the nodes; without these it drifted 5 mm between them)."""
+    ds = np.flatnonzero(sch.double_support)
+    m = settings.loop_checks
+    frac = np.arange(1, m + 1) / (m + 1)
+    return np.array([sch.times[k] + f * sch.step for k in ds[:-1] for f in frac])
+
+
+def build_nlp(body: BodyModel, settings: PredictionSettings, dynamics: bool = True):
+    """Symbolic NLP dict ``{x, f, g}`` (MX calling the per-node SX function), its
+    :class:`Schedule` and the lifting maps ``(n_nodes, 78, N_X)``.
+
+    ``g = [lifting (n × 78), node rows (n × N_G), heel-strike wrench (6), joint-range rows,
+    loop checks (6 per :func:`loop_check_times`)]``. The node function is called once through
+    ``map``, so derivatives are generated once per node function.
     """
     sch = schedule(settings)
     node0 = node_function(body, settings, dynamics, with_hs=True)
@@ -377,20 +404,27 @@ def build_nlp(
     params = ca.DM(np.stack([sch.decay, sch.anchor_other_x]))
     g0, f0 = node0(ys[:, 0], w0, hw, params[:, 0], ts[:, 0])
     rest = n_nodes - 1
-    gr, fr = node.map(rest)(ys[:, 1:], ca.repmat(w0, 1, rest), ca.repmat(hw, 1, rest),
+    mapped = node.map(rest, "thread", settings.threads) if settings.threads > 1 else node.map(rest)
+    gr, fr = mapped(ys[:, 1:], ca.repmat(w0, 1, rest), ca.repmat(hw, 1, rest),
                             params[:, 1:], ts[:, 1:])  # fmt: skip
     gk, fk = ca.horzcat(g0, gr), ca.horzcat(f0, fr)
-    g_hs = g0[G_ROWS["hs_wrench"]] - w0
+    hs = g0[G_ROWS["hs_wrench"]]
+    ratios = ratios_for(settings)
+    if ratios is not None:  # calibrated Eqs. 7–8 for the trailing (left) foot
+        (f_hs, m_hs) = apply_ratios(((hs[0], hs[1], hs[2]), (hs[3], hs[4], hs[5])), ratios, "l")
+        hs = ca.vertcat(*f_hs, *m_hs)
+    g_hs = hs - w0
     crit = 0 if settings.criterion == "tor" else 1
     f = 2.0 * sch.step * ca.sum2(fk[crit, :])
     z = ca.vertcat(x, ca.vec(ys), w0, ca.vec(ts))
     range_mat = ca.sparsify(ca.DM(range_rows(body, settings)[0]))
-    g = ca.vertcat(g_lift, ca.vec(gk), g_hs, ca.mtimes(range_mat, x))
-    prob = {"x": z, "f": f, "g": g}
-    if derivatives:
-        from walk3d.problem.derivatives import derivative_functions
-
-        prob["derivatives"] = derivative_functions(
-            node0, node, lift, np.array(params), sch.step, crit, range_rows(body, settings)[0]
-        )
-    return prob, sch, lift
+    t_loop = loop_check_times(settings, sch)
+    if t_loop.size:
+        c_map = ca.DM(layout.coordinate_maps(t_loop, settings.period)[0].reshape(-1, layout.N_X))
+        c_loop = ca.reshape(ca.mtimes(ca.sparsify(c_map), x), layout.N_COORD, t_loop.size)
+        anchor = ca.DM(np.full((1, t_loop.size), -settings.stride_length / 2))
+        g_loop = ca.vec(loop_function(body, settings).map(t_loop.size)(c_loop, hw, anchor))
+    else:
+        g_loop = ca.MX(0, 1)
+    g = ca.vertcat(g_lift, ca.vec(gk), g_hs, ca.mtimes(range_mat, x), g_loop)
+    return {"x": z, "f": f, "g": g}, sch, lift

@@ -46,11 +46,19 @@ class PredictionSettings(BaseModel):
     """Relative width of the smooth |x| used by the solver (see :mod:`walk3d.problem.criteria`)."""
     range_oversampling: int = 0
     """Extra linear joint-range rows on a grid this many times finer than the nodes (0: off)."""
-    structured_derivatives: bool = False
-    """Give IPOPT the per-node assembled derivatives (walk3d.problem.derivatives) instead of
-    CasADi's own. They are equal at random points (tested) and faster, but from the standing
-    start IPOPT's iterates diverge from the first step and the kinematic stage stops
-    converging (docs/solver.md): off until that is understood."""
+    threads: int = 1
+    """Threads evaluating the node functions and their derivatives (CasADi ``map``). Campaigns
+    already use one process per core; a single prediction may use more."""
+    loop_checks: int = 1
+    """Extra closed-loop checks between consecutive double-support nodes (position level)."""
+    rollover_s: tuple[float, ...] | None = None
+    """Calibrated roll-over knots (``sin(θ/2)`` of the foot rotation; ``walk3d calibrate``).
+    None: the default arc roll-over scaled by foot length."""
+    rollover_ankle: tuple[tuple[float, float, float], ...] | None = None
+    """Ankle displacement (m) at each calibrated roll-over knot."""
+    transition_ratios: tuple[float, float, float, float] | None = None
+    """Calibrated ``(μ_x, μ_z, ϖ_x, ϖ_y)`` of Eqs. 7–8 (right-foot signs). None: read at heel
+    strike from the total reaction (:mod:`walk3d.contact.transition`)."""
     perturbation: float = 0.05
     """Amplitude of the uniform random perturbation of the standing initial guess."""
     max_iter: int = 800
@@ -76,6 +84,8 @@ class PredictionSettings(BaseModel):
             (20 <= self.mass <= 250, f"body mass must be in [20, 250] kg, got {self.mass}"),
             (1.0 <= self.height <= 2.4, f"height must be in [1.0, 2.4] m, got {self.height}"),
             (6 <= self.nodes <= 200, f"nodes must be in [6, 200], got {self.nodes}"),
+            (1 <= self.threads <= 64, f"threads must be in [1, 64], got {self.threads}"),
+            (0 <= self.loop_checks <= 4, f"loop checks must be in [0, 4], got {self.loop_checks}"),
             (0 < self.friction <= 2, f"friction must be in (0, 2], got {self.friction}"),
             (
                 0 <= self.free_moment_radius <= 0.1,
@@ -83,6 +93,13 @@ class PredictionSettings(BaseModel):
             ),
             (0 < self.smoothing < 0.1, f"smoothing must be in (0, 0.1), got {self.smoothing}"),
         ]
+        checks.append(
+            (
+                (self.rollover_s is None) == (self.rollover_ankle is None)
+                and (self.rollover_s is None or len(self.rollover_s) == len(self.rollover_ankle)),
+                "rollover_s and rollover_ankle go together, one ankle point per knot",
+            )
+        )
         for ok, msg in checks:
             if not ok:
                 raise ValueError(msg)
@@ -91,6 +108,30 @@ class PredictionSettings(BaseModel):
     @property
     def stride_length(self) -> float:
         return self.speed * self.period
+
+
+def body_for(settings: PredictionSettings):
+    """The body model of these settings (with the calibrated roll-over, if any)."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from walk3d.body.model import build_body
+    from walk3d.kinematics.rollover import RollOver
+
+    body = build_body(settings.mass, settings.height, settings.sex)
+    if settings.rollover_s is None:
+        return body
+    ro = RollOver.from_samples(np.array(settings.rollover_s), np.array(settings.rollover_ankle))
+    return replace(body, rollover=ro)
+
+
+def ratios_for(settings: PredictionSettings):
+    """The calibrated :class:`~walk3d.contact.transition.TransitionRatios`, or None."""
+    from walk3d.contact.transition import TransitionRatios
+
+    r = settings.transition_ratios
+    return None if r is None else TransitionRatios(*r)
 
 
 def first_error(exc: Exception) -> str:

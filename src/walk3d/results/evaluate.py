@@ -14,13 +14,13 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.contact.phases import GaitPhases
-from walk3d.contact.transition import centre_of_pressure
+from walk3d.contact.transition import apply_ratios, centre_of_pressure
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import point_triple, root_foot_triples, stack_q, stack_v
 from walk3d.problem import layout
 from walk3d.problem.criteria import node_terms, split_by_axis
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
-from walk3d.problem.settings import PredictionSettings
+from walk3d.problem.settings import PredictionSettings, ratios_for
 from walk3d.results.angles import ball_joint_angles
 from walk3d.results.prediction import Prediction
 
@@ -63,8 +63,10 @@ def _state(body, settings, ph, x, t, root, w0=None, decay=None) -> GaitState:
 
 
 def _hs_wrench(body, settings, ph, x, t_hs, root):
+    """The trailing foot's load at ``root``'s heel strike (calibrated ratios applied)."""
     st = _state(body, settings, ph, x, np.array([t_hs]), root, w0=None, decay=np.ones(1))
-    return tuple(tuple(float(c[0]) for c in v) for v in st.hs_wrench)
+    w0 = tuple(tuple(float(c[0]) for c in v) for v in st.hs_wrench)
+    return apply_ratios(w0, ratios_for(settings), "l" if root == "r" else "r")
 
 
 def _ball_quaternion(joint, coords) -> np.ndarray:

@@ -1,13 +1,14 @@
-"""Solving the prediction NLP with CasADi + IPOPT (exact Hessian), in two stages.
+"""Solving the prediction NLP with CasADi + IPOPT (exact Hessian), in three runs.
 
-Stage 1 (kinematic) finds a walking posture sequence that satisfies every kinematic constraint
-(closed double-support loop, stride V·T, swing clearance, foot flat, ranges) while keeping joint
-rates small; it needs no inverse dynamics, so its derivatives are cheap. Stage 2 minimizes the
-chosen criterion under all constraints, started from stage 1. Both start from the paper's
-initial guess: upright standing (all coefficients zero) plus uniform random numbers drawn from
-the seed. No measured data enters.
+1. *posture*: every kinematic constraint (closed double-support loop, stride V·T, swing
+   clearance, foot flat, ranges), minimizing joint rates, accelerations and coordinates;
+2. *balance*: the same, plus the total ground reaction kept physical (Fy ≥ 0, friction, centre
+   of pressure under the feet) — still no joint moments, so derivatives stay cheap;
+3. *full*: the criterion under all constraints, from stage 2.
 
-Solvers are built once per (body, settings) and kept in memory; see :mod:`walk3d.solve.cache`.
+All start from the paper's initial guess: upright standing (all coefficients zero) plus uniform
+random numbers drawn from the seed. No measured data enters. Solvers are built once per
+settings and kept in memory (:func:`build_solver`). docs/solver.md has the measurements.
 """
 
 from __future__ import annotations
@@ -20,9 +21,9 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
-from walk3d.body.model import BodyModel, build_body
+from walk3d.body.model import BodyModel
 from walk3d.problem import layout, nlp
-from walk3d.problem.settings import PredictionSettings
+from walk3d.problem.settings import PredictionSettings, body_for
 
 IPOPT_SUCCESS = {"Solve_Succeeded", "Solved_To_Acceptable_Level"}
 """Return statuses counted as converged (IPOPT's, and sqpmethod's ``Solve_Succeeded``)."""
@@ -40,6 +41,7 @@ class Solver:
     """``g(z)`` of the full stage (used to start it consistently)."""
     bounds: nlp.Bounds
     bounds_kinematic: nlp.Bounds
+    bounds_posture: nlp.Bounds
     lift: np.ndarray
     schedule: nlp.Schedule
     build_time_s: float
@@ -79,21 +81,20 @@ def _ipopt_options(settings: PredictionSettings, max_iter: int) -> dict:
 @cache
 def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     t0 = time.perf_counter()
-    body = build_body(settings.mass, settings.height, settings.sex)
-    structured = settings.structured_derivatives
-    kin_prob, sch, lift = nlp.build_nlp(body, settings, dynamics=False, derivatives=structured)
-    full_prob, _, _ = nlp.build_nlp(body, settings, dynamics=True, derivatives=structured)
+    body = body_for(settings)
+    kin_prob, sch, lift = nlp.build_nlp(body, settings, dynamics=False)
+    full_prob, _, _ = nlp.build_nlp(body, settings, dynamics=True)
     plugin = "ipopt" if method == "ipopt" else "sqpmethod"
     if method == "ipopt":
         opts = _ipopt_options(settings, settings.max_iter)
     else:
         opts = _sqp_options(settings)
-    kin_derivs, full_derivs = kin_prob.pop("derivatives", {}), full_prob.pop("derivatives", {})
-    kin = ca.nlpsol("walk3d_kin", plugin, kin_prob, opts | kin_derivs)
-    full = ca.nlpsol("walk3d_full", plugin, full_prob, opts | full_derivs)
+    kin = ca.nlpsol("walk3d_kin", plugin, kin_prob, opts)
+    full = ca.nlpsol("walk3d_full", plugin, full_prob, opts)
     g_full = ca.Function("walk3d_g", [full_prob["x"]], [full_prob["g"]])
     return Solver(settings, body, kin, full, g_full, nlp.bounds(body, settings, sch),
-                  nlp.bounds(body, settings, sch, dynamics=False), lift, sch,
+                  nlp.bounds(body, settings, sch, dynamics=False),
+                  nlp.bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
                   time.perf_counter() - t0)  # fmt: skip
 
 
@@ -198,19 +199,21 @@ def solve(
     note("building the model")
     solver = build_solver(settings, method)
     t0 = time.perf_counter()
-    note("stage 1/2: kinematic walking posture")
+    note("stage 1/3: walking posture (geometry only)")
     z0 = initial_guess(solver, seed)
-    z, info1 = _run(solver.kinematic, solver, z0, "kinematic", solver.bounds_kinematic)
-    note(f"stage 2/2: minimizing C_{settings.criterion}")
+    z, info0 = _run(solver.kinematic, solver, z0, "posture", solver.bounds_posture)
+    note("stage 2/3: balance (total reaction under the feet)")
+    z, info1 = _run(solver.kinematic, solver, z, "balance", solver.bounds_kinematic)
+    note(f"stage 3/3: minimizing C_{settings.criterion}")
     z, info2 = _run(solver.full, solver, full_stage_start(solver, z), "full", solver.bounds)
     return SolveOutcome(
         x=z[: layout.N_X].copy(),
         z=z,
         converged=info2["status"] in IPOPT_SUCCESS,
         status=info2["status"],
-        iterations=info1["iterations"] + info2["iterations"],
+        iterations=info0["iterations"] + info1["iterations"] + info2["iterations"],
         wall_time_s=time.perf_counter() - t0,
-        stages=[info1, info2],
+        stages=[info0, info1, info2],
         solver=method,
         max_constraint_violation=info2["max_constraint_violation"],
     )
