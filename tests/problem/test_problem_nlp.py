@@ -46,8 +46,10 @@ def test_symbolic_node_function_matches_numpy_evaluation(setup):
     np.testing.assert_allclose(g[nlp.G_ROWS["slack_neg"]], t - u_neg, rtol=1e-10, atol=1e-12)
     assert f[0] == pytest.approx(t.sum(), rel=1e-12)
     # the smallest feasible slack is the exact C_tor integrand |M| / M_max(direction)
-    exact = [float(np.squeeze(v)) for v in node_terms(*dof_moment_terms(body, st)[:2],
-                                                           *strength_weights(body), None)[0]]
+    exact = [
+        float(np.squeeze(v))
+        for v in node_terms(*dof_moment_terms(body, st)[:2], *strength_weights(body), None)[0]
+    ]
     np.testing.assert_allclose(np.maximum(u_pos, u_neg), exact, rtol=1e-10, atol=1e-12)
     # the split: the trailing foot carries decay * W0, the root the rest of the total
     wf = body.mass * G
