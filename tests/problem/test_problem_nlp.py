@@ -7,6 +7,7 @@ from walk3d import G
 from walk3d.body.model import build_body
 from walk3d.kinematics.forward import stack_v
 from walk3d.problem import layout, nlp
+from walk3d.problem.bounds import bounds
 from walk3d.problem.criteria import node_terms
 from walk3d.problem.gait import dof_moment_terms, strength_weights
 from walk3d.problem.settings import PredictionSettings
@@ -62,7 +63,7 @@ def test_symbolic_node_function_matches_numpy_evaluation(setup):
 def test_bounds_and_variables_have_matching_sizes(setup):
     s, body, _ = setup
     prob, sch, lift = nlp.build_nlp(body, s)
-    b = nlp.bounds(body, s, sch)
+    b = bounds(body, s, sch)
     assert prob["x"].shape[0] == b.lbz.size == layout.N_X + sch.n * (nlp.N_Y + nlp.N_T) + 6
     assert prob["g"].shape[0] == b.lbg.size
     assert np.all(b.lbz <= b.ubz) and np.all(b.lbg <= b.ubg)

@@ -23,6 +23,7 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.problem import layout, nlp
+from walk3d.problem.bounds import Bounds, bounds
 from walk3d.problem.settings import PredictionSettings, body_for
 
 IPOPT_SUCCESS = {"Solve_Succeeded", "Solved_To_Acceptable_Level"}
@@ -39,9 +40,9 @@ class Solver:
     full: ca.Function
     constraints: ca.Function
     """``g(z)`` of the full stage (used to start it consistently)."""
-    bounds: nlp.Bounds
-    bounds_kinematic: nlp.Bounds
-    bounds_posture: nlp.Bounds
+    bounds: Bounds
+    bounds_kinematic: Bounds
+    bounds_posture: Bounds
     lift: np.ndarray
     schedule: nlp.Schedule
     build_time_s: float
@@ -92,9 +93,9 @@ def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     kin = ca.nlpsol("walk3d_kin", plugin, kin_prob, opts)
     full = ca.nlpsol("walk3d_full", plugin, full_prob, opts)
     g_full = ca.Function("walk3d_g", [full_prob["x"]], [full_prob["g"]])
-    return Solver(settings, body, kin, full, g_full, nlp.bounds(body, settings, sch),
-                  nlp.bounds(body, settings, sch, dynamics=False),
-                  nlp.bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
+    return Solver(settings, body, kin, full, g_full, bounds(body, settings, sch),
+                  bounds(body, settings, sch, dynamics=False),
+                  bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
                   time.perf_counter() - t0)  # fmt: skip
 
 
@@ -166,7 +167,7 @@ def full_stage_start(solver: Solver, z: np.ndarray) -> np.ndarray:
     return z
 
 
-def _run(fn: ca.Function, solver: Solver, z0: np.ndarray, name: str, b: nlp.Bounds):
+def _run(fn: ca.Function, solver: Solver, z0: np.ndarray, name: str, b: Bounds):
     t0 = time.perf_counter()
     sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
     stats = fn.stats()

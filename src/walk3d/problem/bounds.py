@@ -1,0 +1,117 @@
+"""Bounds of the lifted NLP (:mod:`walk3d.problem.nlp`): variables ``z`` and rows ``g``.
+
+Per stage: the posture stage bounds only geometry, the balance stage adds the total reaction
+rows, the full stage every row (joint loads, slacks, both feet's support).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from walk3d.body.model import BodyModel
+from walk3d.problem import layout
+from walk3d.problem.nlp import (
+    BALL_NORM_MAX,
+    G_ROWS,
+    N_G,
+    N_T,
+    N_Y,
+    Schedule,
+    loop_check_times,
+    range_rows,
+)
+from walk3d.problem.settings import PredictionSettings
+
+
+@dataclass(frozen=True)
+class Bounds:
+    lbz: np.ndarray
+    ubz: np.ndarray
+    lbg: np.ndarray
+    ubg: np.ndarray
+
+
+def _coord_bounds(
+    body: BodyModel, settings: PredictionSettings, sch: Schedule
+) -> tuple[np.ndarray, np.ndarray]:
+    n_nodes = sch.n
+    lo = np.full((n_nodes, 3, layout.N_COORD), -np.inf)
+    hi = np.full((n_nodes, 3, layout.N_COORD), np.inf)
+    ranges = np.concatenate([j.range for j in body.joints])
+    lo[:, 0, :24] = np.sin(ranges[:, 0] / 2)
+    hi[:, 0, :24] = np.sin(ranges[:, 1] / 2)
+    s_up, s_down = np.sin(np.radians(40) / 2), np.sin(np.radians(-75) / 2)
+    r, lft = layout.I_FOOT_R, layout.I_FOOT_L
+    ds, sw = sch.double_support, sch.swing
+    # right foot (root): heel rocker in double support, flat in single stance
+    lo[ds, 0, r], hi[ds, 0, r] = 0.0, s_up
+    # (a 5th-order series cannot vanish over a whole interval: "flat" means within a tolerance)
+    flat = np.sin(settings.foot_flat_tolerance / 2)
+    lo[sw, 0, r], hi[sw, 0, r] = -flat, flat
+    # left foot: toe rocker while trailing, heel first at its strike, unused in swing
+    lo[ds, 0, lft], hi[ds, 0, lft] = s_down, 0.0
+    lo[sw, 0, lft], hi[sw, 0, lft] = s_down, s_up
+    return lo.reshape(n_nodes, -1), hi.reshape(n_nodes, -1)
+
+
+def bounds(
+    body: BodyModel,
+    settings: PredictionSettings,
+    sch: Schedule,
+    dynamics: bool = True,
+    balance: bool = True,
+) -> Bounds:
+    """Bounds on ``z`` and ``g``. Slacks are fixed at 0 when unused (kinematic stage, smooth
+    criterion form) and free otherwise (``t ≥ u±`` bounds them below). For the kinematic
+    stage, ``balance=False`` leaves the total-reaction rows (force, friction, COP) unbounded:
+    a purely geometric first pass."""
+    n_nodes = sch.n
+    slack = dynamics and settings.absolute == "slack"
+    # x: symmetry-fixed coefficients, half step width
+    lbx = np.full(layout.N_X, -np.inf)
+    ubx = np.full(layout.N_X, np.inf)
+    fixed = layout.fixed_zero_mask()
+    lbx[fixed], ubx[fixed] = 0.0, 0.0
+    lbx[layout.I_HALF_STEP], ubx[layout.I_HALF_STEP] = 0.02, 0.25
+    ylo, yhi = _coord_bounds(body, settings, sch)
+    t_lo, t_hi = (-np.inf, np.inf) if slack else (0.0, 0.0)
+    lbz = np.concatenate([lbx, ylo.ravel(), np.full(6, -np.inf), np.full(n_nodes * N_T, t_lo)])
+    ubz = np.concatenate([ubx, yhi.ravel(), np.full(6, np.inf), np.full(n_nodes * N_T, t_hi)])
+
+    glo = np.full((n_nodes, N_G), -np.inf)
+    ghi = np.full((n_nodes, N_G), np.inf)
+    R = G_ROWS
+    loop = np.r_[R["loop_position"], R["loop_orientation"]]
+    for k in range(n_nodes):
+        if sch.double_support[k]:
+            glo[k, loop], ghi[k, loop] = 0.0, 0.0
+        if sch.swing[k]:
+            glo[k, R["other_points_y"]] = 0.0
+        if dynamics and sch.double_support[k]:  # (constant zero rows in the first stage:
+            # bounding them would pin IPOPT's slacks at their bounds)
+            glo[k, R["other_force"].start] = 0.0
+            ghi[k, R["other_force"].start + 1 : R["other_force"].stop] = 0.0
+        ghi[k, R["ankle_separation"]] = -settings.min_ankle_separation
+        glo[k, R["torso"]] = np.sin(body.torso_range[:, 0] / 2)
+        ghi[k, R["torso"]] = np.sin(body.torso_range[:, 1] / 2)
+        weighted = dynamics or balance
+        if k > 0 and weighted:  # at heel strike (node 0) the root foot is unloaded
+            glo[k, R["root_force"].start] = 0.0
+            ghi[k, R["root_force"].start + 1 : R["root_force"].stop] = 0.0
+        glo[k, R["ball_norm"]], ghi[k, R["ball_norm"]] = 0.0, BALL_NORM_MAX
+        if slack:
+            glo[k, R["slack_pos"]] = glo[k, R["slack_neg"]] = 0.0
+        if dynamics and k > 0 or not dynamics and balance and sch.swing[k]:
+            glo[k, R["root_support"]] = 0.0
+        if dynamics and sch.double_support[k]:
+            glo[k, R["other_support"]] = 0.0
+        if not dynamics and balance and sch.double_support[k]:  # total COP under both feet
+            glo[k, R["other_support"].start : R["other_support"].start + 4] = 0.0
+    n_lift = n_nodes * N_Y
+    _, rlo, rhi = range_rows(body, settings)
+    n_loop = 6 * loop_check_times(settings, sch).size
+    lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo, np.zeros(n_loop)])
+    ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6), rhi, np.zeros(n_loop)])
+    return Bounds(lbz, ubz, lbg, ubg)
