@@ -91,6 +91,7 @@ def evaluate(
     decay: Any,
     w0: Wrench | None,
     dynamics: bool = True,
+    balance: bool = True,
 ) -> GaitState:
     """Evaluate the gait at the nodes described by ``coords`` (26 triples).
 
@@ -100,6 +101,7 @@ def evaluate(
     With ``dynamics=False`` only kinematic outputs and the total ground reaction are computed
     (no joint moments); the root foot is given that total (so a first stage can keep it
     pushing, within friction and under the feet), the other foot and all moments are zero.
+    With ``balance=False`` as well, the total is zero too: geometry only.
     """
     other = "l" if root == "r" else "r"
     dof = coords[:24]
@@ -128,7 +130,7 @@ def evaluate(
     else:
         zero = 0.0 * ankle_other[0]
         z3 = (zero, zero, zero)
-        total = root_w = total_ground_reaction(body, pose)
+        total = root_w = total_ground_reaction(body, pose) if balance else (z3, z3)
         hs = other_w = (z3, z3)
         moments = [z3] * len(body.joints)
     pts = body.foot.points(other)

@@ -127,7 +127,15 @@ def _unpack_coords(y, omega: float) -> list[tuple]:
 
 
 def state_at(
-    body: BodyModel, y, w0, hw, decay, anchor_x, omega: float, dynamics: bool = True
+    body: BodyModel,
+    y,
+    w0,
+    hw,
+    decay,
+    anchor_x,
+    omega: float,
+    dynamics: bool = True,
+    balance: bool = True,
 ) -> GaitState:
     """:func:`evaluate` with the right foot as root (component inputs, any backend).
 
@@ -148,6 +156,7 @@ def state_at(
         decay,
         w0_wrench,
         dynamics=dynamics,
+        balance=balance,
     )
 
 
@@ -216,7 +225,11 @@ def _support(body: BodyModel, settings: PredictionSettings, st: GaitState, dynam
 
 
 def node_function(
-    body: BodyModel, settings: PredictionSettings, dynamics: bool = True, with_hs: bool = True
+    body: BodyModel,
+    settings: PredictionSettings,
+    dynamics: bool = True,
+    with_hs: bool = True,
+    balance: bool = True,
 ) -> ca.Function:
     """``walk3d_node(y[78], w0[6], hw, p[2], t[24]) -> (g[N_G], f[2])`` in SX,
     ``p = [decay, anchor_x]``.
@@ -236,6 +249,8 @@ def node_function(
     posture sequence near upright standing, found without inverse dynamics. (Rates alone leave
     constant offsets free, and the first stage then parked the arms at 70° of flexion.) With
     ``with_hs=False`` the heel-strike wrench rows are constant zeros: only node 0 needs them.
+    ``balance=False`` (with ``dynamics=False``) also drops the total reaction: geometry only,
+    a cheap posture stage.
     """
     y = ca.SX.sym("y", N_Y)
     w0 = ca.SX.sym("w0", 6)
@@ -244,7 +259,7 @@ def node_function(
     t = ca.SX.sym("t", N_T)
     omega = 2 * np.pi / settings.period
     yl, w0l = [y[i] for i in range(N_Y)], [w0[i] for i in range(6)]
-    st = state_at(body, yl, w0l, hw, p[0], p[1], omega, dynamics)
+    st = state_at(body, yl, w0l, hw, p[0], p[1], omega, dynamics, balance)
     g, f, starts = node_outputs(body, settings, st)
     if not dynamics:
         n = layout.N_COORD
@@ -273,7 +288,7 @@ def loop_function(body: BodyModel, settings: PredictionSettings) -> ca.Function:
     hw, ax = ca.SX.sym("hw"), ca.SX.sym("ax")
     zero = 0.0 * c[0]
     y = [c[i] for i in range(layout.N_COORD)] + [zero] * (2 * layout.N_COORD)
-    st = state_at(body, y, [zero] * 6, hw, 0.0, ax, 1.0, dynamics=False)
+    st = state_at(body, y, [zero] * 6, hw, 0.0, ax, 1.0, dynamics=False, balance=False)
     rows = list(st.loop_position) + list(st.loop_orientation)
     return ca.Function("walk3d_loop", [c, hw, ax], [ca.vertcat(*rows)])
 
@@ -287,7 +302,9 @@ def loop_check_times(settings: PredictionSettings, sch: Schedule) -> np.ndarray:
     return np.array([sch.times[k] + f * sch.step for k in ds[:-1] for f in frac])
 
 
-def build_nlp(body: BodyModel, settings: PredictionSettings, dynamics: bool = True):
+def build_nlp(
+    body: BodyModel, settings: PredictionSettings, dynamics: bool = True, balance: bool = True
+):
     """Symbolic NLP dict ``{x, f, g}`` (MX calling the per-node SX function), its
     :class:`Schedule` and the lifting maps ``(n_nodes, 78, N_X)``.
 
@@ -296,8 +313,8 @@ def build_nlp(body: BodyModel, settings: PredictionSettings, dynamics: bool = Tr
     ``map``, so derivatives are generated once per node function.
     """
     sch = schedule(settings)
-    node0 = node_function(body, settings, dynamics, with_hs=True)
-    node = node_function(body, settings, dynamics, with_hs=False)
+    node0 = node_function(body, settings, dynamics, with_hs=True, balance=balance)
+    node = node_function(body, settings, dynamics, with_hs=False, balance=balance)
     n_nodes = sch.n
     a0, a1, a2 = layout.coordinate_maps(sch.times, settings.period)
     omega = 2 * np.pi / settings.period

@@ -49,8 +49,10 @@ class PredictionSettings(BaseModel):
     threads: int = 1
     """Threads evaluating the node functions and their derivatives (CasADi ``map``). Campaigns
     already use one process per core; a single prediction may use more."""
-    loop_checks: int = 1
-    """Extra closed-loop checks between consecutive double-support nodes (position level)."""
+    loop_checks: int = 0
+    """Extra closed-loop checks between consecutive double-support nodes (position level).
+    Off by default: with one check per interval the posture stage hit its iteration limit
+    (800) where it converges in 62 iterations without (docs/solver.md)."""
     rollover_s: tuple[float, ...] | None = None
     """Calibrated roll-over knots (``sin(θ/2)`` of the foot rotation; ``walk3d calibrate``).
     None: the default arc roll-over scaled by foot length."""

@@ -36,6 +36,7 @@ class Solver:
 
     settings: PredictionSettings
     body: BodyModel
+    posture: ca.Function
     kinematic: ca.Function
     full: ca.Function
     constraints: ca.Function
@@ -83,6 +84,7 @@ def _ipopt_options(settings: PredictionSettings, max_iter: int) -> dict:
 def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     t0 = time.perf_counter()
     body = body_for(settings)
+    post_prob, _, _ = nlp.build_nlp(body, settings, dynamics=False, balance=False)
     kin_prob, sch, lift = nlp.build_nlp(body, settings, dynamics=False)
     full_prob, _, _ = nlp.build_nlp(body, settings, dynamics=True)
     plugin = "ipopt" if method == "ipopt" else "sqpmethod"
@@ -90,10 +92,11 @@ def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
         opts = _ipopt_options(settings, settings.max_iter)
     else:
         opts = _sqp_options(settings)
+    post = ca.nlpsol("walk3d_posture", plugin, post_prob, opts)
     kin = ca.nlpsol("walk3d_kin", plugin, kin_prob, opts)
     full = ca.nlpsol("walk3d_full", plugin, full_prob, opts)
     g_full = ca.Function("walk3d_g", [full_prob["x"]], [full_prob["g"]])
-    return Solver(settings, body, kin, full, g_full, bounds(body, settings, sch),
+    return Solver(settings, body, post, kin, full, g_full, bounds(body, settings, sch),
                   bounds(body, settings, sch, dynamics=False),
                   bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
                   time.perf_counter() - t0)  # fmt: skip
@@ -202,7 +205,7 @@ def solve(
     t0 = time.perf_counter()
     note("stage 1/3: walking posture (geometry only)")
     z0 = initial_guess(solver, seed)
-    z, info0 = _run(solver.kinematic, solver, z0, "posture", solver.bounds_posture)
+    z, info0 = _run(solver.posture, solver, z0, "posture", solver.bounds_posture)
     note("stage 2/3: balance (total reaction under the feet)")
     z, info1 = _run(solver.kinematic, solver, z, "balance", solver.bounds_kinematic)
     note(f"stage 3/3: minimizing C_{settings.criterion}")
