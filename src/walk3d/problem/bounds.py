@@ -22,6 +22,7 @@ from walk3d.problem.nlp import (
     loop_check_times,
     range_rows,
 )
+from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.settings import PredictionSettings
 
 
@@ -39,7 +40,7 @@ def _coord_bounds(
     n_nodes = sch.n
     lo = np.full((n_nodes, 3, layout.N_COORD), -np.inf)
     hi = np.full((n_nodes, 3, layout.N_COORD), np.inf)
-    ranges = np.concatenate([j.range for j in body.joints])
+    ranges = joint_ranges(body, settings)
     lo[:, 0, :24] = np.sin(ranges[:, 0] / 2)
     hi[:, 0, :24] = np.sin(ranges[:, 1] / 2)
     s_up, s_down = np.sin(np.radians(40) / 2), np.sin(np.radians(-75) / 2)

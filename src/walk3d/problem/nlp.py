@@ -35,6 +35,7 @@ from walk3d.contact.transition import apply_ratios
 from walk3d.problem import layout
 from walk3d.problem.criteria import POWER_SCALE_W, node_terms
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
+from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.settings import PredictionSettings, ratios_for
 
 N_Y = 3 * layout.N_COORD
@@ -114,7 +115,7 @@ def range_rows(body: BodyModel, settings: PredictionSettings) -> tuple[np.ndarra
     m = settings.range_oversampling * settings.nodes
     t = ph.heel_strike_r + np.arange(m) * settings.period / (2 * m)
     a0, _, _ = layout.coordinate_maps(t, settings.period)
-    ranges = np.concatenate([j.range for j in body.joints])
+    ranges = joint_ranges(body, settings)
     R = a0[:, :24, :].reshape(-1, layout.N_X)
     lo = np.tile(np.sin(ranges[:, 0] / 2), m)
     hi = np.tile(np.sin(ranges[:, 1] / 2), m)

@@ -46,6 +46,8 @@ class PredictionSettings(BaseModel):
     """Relative width of the smooth |x| used by the solver (see :mod:`walk3d.problem.criteria`)."""
     range_oversampling: int = 0
     """Extra linear joint-range rows on a grid this many times finer than the nodes (0: off)."""
+    arm_walking_ranges: bool = True
+    """Narrow shoulder and elbow ranges to those of walking (walk3d.problem.bounds)."""
     threads: int = 1
     """Threads evaluating the node functions and their derivatives (CasADi ``map``). Campaigns
     already use one process per core; a single prediction may use more."""
