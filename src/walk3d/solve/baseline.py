@@ -32,7 +32,7 @@ class _Dense:
         self.params = np.stack([sv.schedule.decay, sv.schedule.anchor_other_x])
         self.crit = 0 if settings.criterion == "tor" else 1
         self.step = sv.schedule.step
-        b = sv.bounds if dynamics else sv.bounds_kinematic
+        b = sv.bounds if dynamics else sv.bounds_balance
         n_lift = self.n * nlp.N_Y
         n_node = self.n * nlp.N_G
         self.range_mat = nlp.range_rows(sv.body, settings)[0]

@@ -37,12 +37,12 @@ class Solver:
     settings: PredictionSettings
     body: BodyModel
     posture: ca.Function
-    kinematic: ca.Function
+    balance: ca.Function
     full: ca.Function
     constraints: ca.Function
     """``g(z)`` of the full stage (used to start it consistently)."""
     bounds: Bounds
-    bounds_kinematic: Bounds
+    bounds_balance: Bounds
     bounds_posture: Bounds
     lift: np.ndarray
     schedule: nlp.Schedule
@@ -93,10 +93,10 @@ def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     else:
         opts = _sqp_options(settings)
     post = ca.nlpsol("walk3d_posture", plugin, post_prob, opts)
-    kin = ca.nlpsol("walk3d_kin", plugin, kin_prob, opts)
+    bal = ca.nlpsol("walk3d_balance", plugin, kin_prob, opts)
     full = ca.nlpsol("walk3d_full", plugin, full_prob, opts)
     g_full = ca.Function("walk3d_g", [full_prob["x"]], [full_prob["g"]])
-    return Solver(settings, body, post, kin, full, g_full, bounds(body, settings, sch),
+    return Solver(settings, body, post, bal, full, g_full, bounds(body, settings, sch),
                   bounds(body, settings, sch, dynamics=False),
                   bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
                   time.perf_counter() - t0)  # fmt: skip
@@ -138,7 +138,7 @@ def _z_from_x(solver: Solver, x: np.ndarray, w0: np.ndarray) -> np.ndarray:
     y = np.einsum("kij,j->ki", solver.lift, x)
     t = np.zeros(solver.schedule.n * nlp.N_T)
     z = np.concatenate([x, y.ravel(), w0, t])
-    return np.clip(z, solver.bounds_kinematic.lbz, solver.bounds_kinematic.ubz)
+    return np.clip(z, solver.bounds_balance.lbz, solver.bounds_balance.ubz)
 
 
 SLACK_MARGIN = 1e-2
@@ -146,7 +146,7 @@ SLACK_MARGIN = 1e-2
 
 
 def full_stage_start(solver: Solver, z: np.ndarray) -> np.ndarray:
-    """Start of the full stage from a kinematic solution ``z``: consistent W0 and slacks.
+    """Start of the full stage from a balance-stage solution ``z``: consistent W0 and slacks.
 
     W0 is set to the total reaction at node 0 (twice, since the split in double support
     depends on it), and each slack to ``max(u⁺, u⁻) + SLACK_MARGIN`` at that point.
@@ -158,12 +158,14 @@ def full_stage_start(solver: Solver, z: np.ndarray) -> np.ndarray:
     z[i_w0:i_t] = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
     z[i_t:] = 0.0
     rows = nlp.G_ROWS
-    for _ in range(2):
+
+    def node_rows(z: np.ndarray) -> np.ndarray:
         g = np.array(solver.constraints(z)).ravel()
-        node = g[n * n_y : n * n_y + n * nlp.N_G].reshape(n, nlp.N_G)
-        z[i_w0:i_t] = node[0, rows["hs_wrench"]]
-    g = np.array(solver.constraints(z)).ravel()
-    node = g[n * n_y : n * n_y + n * nlp.N_G].reshape(n, nlp.N_G)
+        return g[n * n_y : n * n_y + n * nlp.N_G].reshape(n, nlp.N_G)
+
+    for _ in range(2):
+        z[i_w0:i_t] = node_rows(z)[0, rows["hs_wrench"]]
+    node = node_rows(z)
     u = np.maximum(-node[:, rows["slack_pos"]], -node[:, rows["slack_neg"]])
     if solver.settings.absolute == "slack":
         z[i_t:] = (u + SLACK_MARGIN).ravel()
@@ -207,7 +209,7 @@ def solve(
     z0 = initial_guess(solver, seed)
     z, info0 = _run(solver.posture, solver, z0, "posture", solver.bounds_posture)
     note("stage 2/3: balance (total reaction under the feet)")
-    z, info1 = _run(solver.kinematic, solver, z, "balance", solver.bounds_kinematic)
+    z, info1 = _run(solver.balance, solver, z, "balance", solver.bounds_balance)
     note(f"stage 3/3: minimizing C_{settings.criterion}")
     z, info2 = _run(solver.full, solver, full_stage_start(solver, z), "full", solver.bounds)
     return SolveOutcome(
