@@ -46,6 +46,11 @@ class PredictionSettings(BaseModel):
     """Relative width of the smooth |x| used by the solver (see :mod:`walk3d.problem.criteria`)."""
     range_oversampling: int = 0
     """Extra linear joint-range rows on a grid this many times finer than the nodes (0: off)."""
+    posture_stage: bool = False
+    """Run the geometry-only posture stage before the balance stage. Off by default: from its
+    straight-legged result the full stage fell into a crouched optimum (C_tor 6.8, seed 0),
+    while the balance stage straight from standing led to walking (C_tor 1.88, knee 78° in
+    swing; docs/solver.md)."""
     arm_walking_ranges: bool = True
     """Narrow shoulder and elbow ranges to those of walking (walk3d.problem.bounds)."""
     threads: int = 1

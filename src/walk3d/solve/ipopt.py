@@ -1,10 +1,11 @@
-"""Solving the prediction NLP with CasADi + IPOPT (exact Hessian), in three runs.
+"""Solving the prediction NLP with CasADi + IPOPT (exact Hessian), in stages.
 
-1. *posture*: every kinematic constraint (closed double-support loop, stride V·T, swing
-   clearance, foot flat, ranges), minimizing joint rates, accelerations and coordinates;
-2. *balance*: the same, plus the total ground reaction kept physical (Fy ≥ 0, friction, centre
+0. *posture* (optional, ``settings.posture_stage``): every kinematic constraint (closed
+   double-support loop, stride V·T, swing clearance, foot flat, ranges), minimizing joint
+   rates, accelerations and coordinates;
+1. *balance*: the same, plus the total ground reaction kept physical (Fy ≥ 0, friction, centre
    of pressure under the feet) — still no joint moments, so derivatives stay cheap;
-3. *full*: the criterion under all constraints, from stage 2.
+2. *full*: the criterion under all constraints, from stage 1.
 
 All start from the paper's initial guess: upright standing (all coefficients zero) plus uniform
 random numbers drawn from the seed. No measured data enters. Solvers are built once per
@@ -205,21 +206,25 @@ def solve(
     note("building the model")
     solver = build_solver(settings, method)
     t0 = time.perf_counter()
-    note("stage 1/3: walking posture (geometry only)")
-    z0 = initial_guess(solver, seed)
-    z, info0 = _run(solver.posture, solver, z0, "posture", solver.bounds_posture)
-    note("stage 2/3: balance (total reaction under the feet)")
+    z = initial_guess(solver, seed)
+    stages = []
+    if settings.posture_stage:
+        note("stage 0: walking posture (geometry only)")
+        z, info = _run(solver.posture, solver, z, "posture", solver.bounds_posture)
+        stages.append(info)
+    note("stage 1/2: balance (walking posture, total reaction under the feet)")
     z, info1 = _run(solver.balance, solver, z, "balance", solver.bounds_balance)
-    note(f"stage 3/3: minimizing C_{settings.criterion}")
+    note(f"stage 2/2: minimizing C_{settings.criterion}")
     z, info2 = _run(solver.full, solver, full_stage_start(solver, z), "full", solver.bounds)
+    stages += [info1, info2]
     return SolveOutcome(
         x=z[: layout.N_X].copy(),
         z=z,
         converged=info2["status"] in IPOPT_SUCCESS,
         status=info2["status"],
-        iterations=info0["iterations"] + info1["iterations"] + info2["iterations"],
+        iterations=sum(st["iterations"] for st in stages),
         wall_time_s=time.perf_counter() - t0,
-        stages=[info0, info1, info2],
+        stages=stages,
         solver=method,
         max_constraint_violation=info2["max_constraint_violation"],
     )
