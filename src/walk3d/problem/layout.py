@@ -52,6 +52,10 @@ N_COEF = fourier.N_COEF
 N_X = N_SERIES * N_COEF + 1
 I_HALF_STEP = N_SERIES * N_COEF
 N_COORD = 26
+N_Y = 3 * N_COORD
+"""Lifted variables per NLP node: the 26 coordinates, their rates / ω and accelerations / ω²."""
+N_T = 24
+"""Slack variables per NLP node, one per DoF (criterion absolute values)."""
 
 # coordinate index -> (series index, shifted by half a cycle?)
 COORD_SOURCE: tuple[tuple[int, bool], ...] = (

@@ -34,11 +34,12 @@ from walk3d.contact.support import foot_points, support_rows
 from walk3d.contact.transition import apply_ratios
 from walk3d.problem import layout
 from walk3d.problem.criteria import POWER_SCALE_W, node_terms
+from walk3d.problem.derivatives import NlpPieces, derivative_functions
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
 from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.settings import PredictionSettings, ratios_for
 
-N_Y = 3 * layout.N_COORD
+N_Y = layout.N_Y
 G_ROWS = {
     "loop_position": slice(0, 3),
     "loop_orientation": slice(3, 6),
@@ -57,8 +58,7 @@ G_ROWS = {
     "other_support": slice(95, 101),
 }
 N_G = 101
-N_T = 24
-"""Slack variables per node, one per DoF (``slack`` criterion form; see :func:`node_function`)."""
+N_T = layout.N_T
 BALL_NORM_MAX = 0.97
 EN_SCALE = 100.0  # C_en is divided by this in the solver's objective (J -> O(1))
 
@@ -343,7 +343,8 @@ def build_nlp(
     crit = 0 if settings.criterion == "tor" else 1
     f = 2.0 * sch.step * ca.sum2(fk[crit, :])
     z = ca.vertcat(x, ca.vec(ys), w0, ca.vec(ts))
-    range_mat = ca.sparsify(ca.DM(range_rows(body, settings)[0]))
+    range_np = range_rows(body, settings)[0]
+    range_mat = ca.sparsify(ca.DM(range_np))
     t_loop = loop_check_times(settings, sch)
     if t_loop.size:
         c_map = ca.DM(layout.coordinate_maps(t_loop, settings.period)[0].reshape(-1, layout.N_X))
@@ -353,4 +354,21 @@ def build_nlp(
     else:
         g_loop = ca.MX(0, 1)
     g = ca.vertcat(g_lift, ca.vec(gk), g_hs, ca.mtimes(range_mat, x), g_loop)
-    return {"x": z, "f": f, "g": g}, sch, lift
+    prob = {"x": z, "f": f, "g": g}
+    if settings.derivatives == "structured":
+        pieces = NlpPieces(z, f, g, node0, node, np.asarray(params), lift, range_np,
+                           G_ROWS["hs_wrench"], _hs_map(ratios), 2.0 * sch.step, crit, N_G,
+                           g_loop, x)  # fmt: skip
+        prob["derivatives"] = derivative_functions(pieces)
+    return prob, sch, lift
+
+
+def _hs_map(ratios) -> np.ndarray:
+    """The (linear) map from node 0's heel-strike rows to the trailing foot's load W0."""
+    if ratios is None:
+        return np.eye(6)
+    cols = []
+    for e in np.eye(6):
+        f, m = apply_ratios(((e[0], e[1], e[2]), (e[3], e[4], e[5])), ratios, "l")
+        cols.append([*f, *m])
+    return np.array(cols, dtype=float).T

@@ -42,6 +42,10 @@ class PredictionSettings(BaseModel):
     absolute: Literal["slack", "smooth"] = "slack"
     """How the solver sees the criterion's absolute values: exact slack variables (default) or
     the smooth ``sqrt(x² + ε²)`` (kept for comparison; it did not converge, docs/solver.md)."""
+    derivatives: Literal["structured", "casadi"] = "structured"
+    """How the solver gets exact derivatives: assembled from per-node Jacobians and Hessians
+    (``structured``, :mod:`walk3d.problem.derivatives`) or CasADi's sweeps through the whole
+    problem (``casadi``). Same values; the structured ones are several times cheaper."""
     smoothing: float = 1e-3
     """Relative width of the smooth |x| used by the solver (see :mod:`walk3d.problem.criteria`)."""
     range_oversampling: int = 0

@@ -1,0 +1,217 @@
+"""Exact first and second derivatives of the lifted NLP, assembled from per-node functions.
+
+CasADi differentiates the MX problem of :func:`walk3d.problem.nlp.build_nlp` itself by sweeping
+directional derivatives through the mapped node function. That is exact but slow: at 20 nodes
+the Lagrangian Hessian took 490–660 ms and the constraint Jacobian 180–250 ms per call, about
+two thirds of the solve (docs/solver.md). The NLP's structure makes a cheaper route exact too:
+
+* node k's rows depend only on its own variables ``v_k = [Y_k (78), W0 (6), half step width,
+  T_k (24)]`` (:data:`N_V` = 109), so its Jacobian ``J_k`` and Lagrangian Hessian ``H_k`` are
+  small SX functions of ``v_k``, generated once per node function and mapped over the nodes;
+* every other row (the lifting ``Y_k = A_k x``, the heel-strike tie ``R·hs - W0``, the joint
+  ranges) is linear, and adds constants to the Jacobian and nothing to the Hessian; only the
+  optional loop checks (functions of ``x`` alone) are left to CasADi;
+* the global nonzeros are then a constant scatter-add of the node nonzeros: ``H = Σ_k P_kᵀ H_k
+  P_k`` (upper triangle in the order of ``z``), ``J = [..., J_k P_k, ...]``.
+
+The values equal CasADi's own derivatives (``tests/problem/test_problem_derivatives.py``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from walk3d.problem import layout
+
+N_Y, N_T = layout.N_Y, layout.N_T
+N_V = N_Y + 7 + N_T
+"""Variables of one node: ``[Y_k, W0, half step width, T_k]``."""
+
+
+@dataclass(frozen=True)
+class NlpPieces:
+    """What :func:`walk3d.problem.nlp.build_nlp` hands over to assemble the derivatives."""
+
+    z: ca.MX
+    f: ca.MX
+    g: ca.MX
+    node0: ca.Function
+    node: ca.Function
+    params: np.ndarray
+    """(2, n) node parameters ``[decay, anchor_x]``."""
+    lift: np.ndarray
+    """(n, 78, N_X) lifting maps."""
+    range_mat: np.ndarray
+    hs_rows: slice
+    hs_map: np.ndarray
+    """(6, 6) linear map from the heel-strike rows of node 0 to the trailing foot's load."""
+    weight: float
+    """Objective = ``weight · Σ_k f_k[crit]``."""
+    crit: int
+    n_g_node: int
+    g_loop: ca.MX
+    x: ca.MX
+
+
+def node_columns(n: int, k: int) -> np.ndarray:
+    """Positions in ``z = [x, vec(Y), W0, vec(T)]`` of node k's variables ``v_k``."""
+    off_w0 = layout.N_X + n * N_Y
+    return np.concatenate([
+        layout.N_X + k * N_Y + np.arange(N_Y),
+        off_w0 + np.arange(6),
+        [layout.I_HALF_STEP],
+        off_w0 + 6 + k * N_T + np.arange(N_T),
+    ])  # fmt: skip
+
+
+def _node_derivatives(node: ca.Function, crit: int) -> tuple[ca.Function, ...]:
+    """Node k's constraint Jacobian, objective gradient and Lagrangian Hessian in ``v_k``
+    (separate functions: an MX call evaluates every output of the function it calls)."""
+    y, w0, hw, p, t = (node.sx_in(i) for i in range(5))
+    g, f = node(y, w0, hw, p, t)
+    v = ca.vertcat(y, w0, hw, t)
+    fc = f[crit]
+    lam_g = ca.SX.sym("lam_g", g.numel())
+    sf = ca.SX.sym("sf")
+    jac = ca.Function("walk3d_node_jac", [v, p], [ca.jacobian(g, v)])
+    grad = ca.Function("walk3d_node_grad", [v, p], [ca.gradient(fc, v)])
+    hess = ca.hessian(sf * fc + ca.dot(lam_g, g), v)[0]
+    return jac, grad, ca.Function("walk3d_node_hess", [v, p, sf, lam_g], [hess])
+
+
+def _triplets(sp: ca.Sparsity) -> tuple[np.ndarray, np.ndarray]:
+    r, c = sp.get_triplet()
+    return np.asarray(r, dtype=int), np.asarray(c, dtype=int)
+
+
+class _Scatter:
+    """Collects ``(row, col)`` targets of source nonzeros; builds ``nz_global = S @ nz_src``."""
+
+    def __init__(self, shape: tuple[int, int]):
+        self.shape = shape
+        self.rows: list[np.ndarray] = []
+        self.cols: list[np.ndarray] = []
+        self.const_rows: list[np.ndarray] = []
+        self.const_cols: list[np.ndarray] = []
+        self.const_vals: list[np.ndarray] = []
+        self.sources: list[ca.MX] = []
+
+    def add(self, nz: ca.MX, rows: np.ndarray, cols: np.ndarray) -> None:
+        self.sources.append(nz)
+        self.rows.append(rows)
+        self.cols.append(cols)
+
+    def add_const(self, rows: np.ndarray, cols: np.ndarray, vals: np.ndarray) -> None:
+        self.const_rows.append(rows)
+        self.const_cols.append(cols)
+        self.const_vals.append(vals)
+
+    def build(self) -> ca.MX:
+        rows = np.concatenate(self.rows + self.const_rows)
+        cols = np.concatenate(self.cols + self.const_cols)
+        # global nonzeros: the distinct targets in column-major order; slot = position of each
+        keys, slot = np.unique(cols * self.shape[0] + rows, return_inverse=True)
+        sp = ca.Sparsity.triplet(*self.shape, (keys % self.shape[0]).tolist(),
+                                 (keys // self.shape[0]).tolist())  # fmt: skip
+        assert sp.nnz() == len(keys)
+        n_var = sum(len(r) for r in self.rows)
+        src = np.arange(n_var)
+        scatter = ca.DM(ca.Sparsity.triplet(sp.nnz(), n_var, slot[:n_var].tolist(),
+                                            src.tolist()), 1.0)  # fmt: skip
+        nz = ca.mtimes(scatter, ca.vertcat(*self.sources))
+        if self.const_vals:
+            const = np.zeros(sp.nnz())
+            np.add.at(const, slot[n_var:], np.concatenate(self.const_vals))
+            nz = nz + ca.DM(const)
+        return ca.MX(sp, nz)
+
+
+def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
+    """``grad_f``, ``jac_g`` and ``hess_lag`` for ``ca.nlpsol`` (its option names)."""
+    n = pc.lift.shape[0]
+    z, n_z, n_g = pc.z, pc.z.numel(), pc.g.numel()
+    p = ca.MX.sym("p", 0)
+    lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
+    cols = [node_columns(n, k) for k in range(n)]
+    v0 = z[cols[0].tolist()]
+    vr = ca.reshape(z[np.concatenate(cols[1:]).tolist()], N_V, n - 1)
+    j0, d0, h0 = _node_derivatives(pc.node0, pc.crit)
+    jn, dn, hn = _node_derivatives(pc.node, pc.crit)
+    pr, p0 = ca.DM(pc.params[:, 1:]), ca.DM(pc.params[:, 0])
+    J0, Jr = j0(v0, p0), jn.map(n - 1)(vr, pr)
+    gf0, gfr = d0(v0, p0), dn.map(n - 1)(vr, pr)
+
+    # Jacobian rows: [lifting (n*N_Y), nodes (n*N_G), hs (6), ranges, loop checks]
+    jac = _Scatter((n_g, n_z))
+    lift = pc.lift.reshape(-1, layout.N_X)
+    lr, lc = np.nonzero(lift)
+    jac.add_const(lr, lc, -lift[lr, lc])
+    jac.add_const(np.arange(n * N_Y), layout.N_X + np.arange(n * N_Y), np.ones(n * N_Y))
+    off = n * N_Y
+    r0, c0 = _triplets(J0.sparsity())
+    jac.add(J0.nz[:], off + r0, cols[0][c0])
+    rr, cr = _triplets(jn.sparsity_out(0))
+    for k in range(1, n):
+        jac.add(Jr.nz[(k - 1) * len(rr) : k * len(rr)], off + k * pc.n_g_node + rr, cols[k][cr])
+    off += n * pc.n_g_node
+    j_hs = ca.mtimes(ca.DM(pc.hs_map), J0[pc.hs_rows.start : pc.hs_rows.stop, :])
+    rh, ch = _triplets(j_hs.sparsity())
+    jac.add(j_hs.nz[:], off + rh, cols[0][ch])
+    jac.add_const(off + np.arange(6), layout.N_X + n * N_Y + np.arange(6), -np.ones(6))
+    off += 6
+    rg, cg = np.nonzero(pc.range_mat)
+    jac.add_const(off + rg, cg, pc.range_mat[rg, cg])
+    off += pc.range_mat.shape[0]
+    lam_loop = lam_g[off:]
+    hess_extra = None
+    if pc.g_loop.numel():
+        j_loop = ca.jacobian(pc.g_loop, pc.x)
+        rl, cl = _triplets(j_loop.sparsity())
+        jac.add(j_loop.nz[:], off + rl, cl)
+        hess_extra = ca.triu(ca.hessian(ca.dot(lam_loop, pc.g_loop), pc.x)[0])
+
+    # gradient of the objective
+    grad = _Scatter((n_z, 1))
+    rf, _ = _triplets(gf0.sparsity())
+    grad.add(pc.weight * gf0.nz[:], cols[0][rf], np.zeros(len(rf), dtype=int))
+    rfr, _ = _triplets(dn.sparsity_out(0))
+    for k in range(1, n):
+        seg = gfr.nz[(k - 1) * len(rfr) : k * len(rfr)]
+        grad.add(pc.weight * seg, cols[k][rfr], np.zeros(len(rfr), dtype=int))
+    grad.add_const(np.arange(n_z), np.zeros(n_z, dtype=int), np.zeros(n_z))
+
+    # Hessian of the Lagrangian: node 0 also carries the heel-strike rows (through hs_map)
+    off_nodes = n * N_Y
+    lam_nodes = ca.reshape(lam_g[off_nodes : off_nodes + n * pc.n_g_node], pc.n_g_node, n)
+    lam_hs = lam_g[off_nodes + n * pc.n_g_node : off_nodes + n * pc.n_g_node + 6]
+    hs = pc.hs_rows
+    lam0 = lam_nodes[:, 0] + ca.vertcat(
+        ca.MX(hs.start, 1), ca.mtimes(ca.DM(pc.hs_map).T, lam_hs), ca.MX(pc.n_g_node - hs.stop, 1)
+    )
+    sf = pc.weight * lam_f
+    H0 = h0(v0, ca.DM(pc.params[:, 0]), sf, lam0)
+    Hr = hn.map(n - 1)(vr, pr, ca.repmat(sf, 1, n - 1), lam_nodes[:, 1:])
+    hess = _Scatter((n_z, n_z))
+    for k, (hk_nz, sp) in enumerate(
+        [(H0.nz[:], H0.sparsity())] + [(None, hn.sparsity_out(0))] * (n - 1)
+    ):
+        r, c = _triplets(sp)
+        gr, gc = cols[k][r], cols[k][c]
+        keep = gr <= gc
+        if hk_nz is None:
+            hk_nz = Hr.nz[(k - 1) * len(r) : k * len(r)]
+        hess.add(hk_nz[np.flatnonzero(keep).tolist()], gr[keep], gc[keep])
+    if hess_extra is not None:
+        rx, cx = _triplets(hess_extra.sparsity())
+        hess.add(hess_extra.nz[:], rx, cx)
+    return {
+        "grad_f": ca.Function("grad_f", [z, p], [pc.f, grad.build()], ["x", "p"],
+                              ["f", "grad_f_x"]),
+        "jac_g": ca.Function("jac_g", [z, p], [pc.g, jac.build()], ["x", "p"],
+                             ["g", "jac_g_x"]),
+        "hess_lag": ca.Function("hess_lag", [z, p, lam_f, lam_g], [hess.build()],
+                                ["x", "p", "lam_f", "lam_g"], ["triu_hess_gamma_x_x"]),
+    }  # fmt: skip
