@@ -54,6 +54,8 @@ class NlpPieces:
     n_g_node: int
     g_loop: ca.MX
     x: ca.MX
+    threads: int = 1
+    """Threads for the mapped node derivatives (``settings.threads``)."""
 
 
 def node_columns(n: int, k: int) -> np.ndarray:
@@ -141,7 +143,11 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     j0, d0, h0 = _node_derivatives(pc.node0, pc.crit)
     jn, dn, hn = _node_derivatives(pc.node, pc.crit)
     pr, p0 = ca.DM(pc.params[:, 1:]), ca.DM(pc.params[:, 0])
-    J0, Jr = j0(v0, p0), jn.map(n - 1)(vr, pr)
+
+    def mapped(fn: ca.Function) -> ca.Function:
+        return fn.map(n - 1, "thread", pc.threads) if pc.threads > 1 else fn.map(n - 1)
+
+    J0, Jr = j0(v0, p0), mapped(jn)(vr, pr)
     gf0, gfr = d0(v0, p0), dn.map(n - 1)(vr, pr)
 
     # Jacobian rows: [lifting (n*N_Y), nodes (n*N_G), hs (6), ranges, loop checks]
@@ -193,7 +199,7 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     )
     sf = pc.weight * lam_f
     H0 = h0(v0, ca.DM(pc.params[:, 0]), sf, lam0)
-    Hr = hn.map(n - 1)(vr, pr, ca.repmat(sf, 1, n - 1), lam_nodes[:, 1:])
+    Hr = mapped(hn)(vr, pr, ca.repmat(sf, 1, n - 1), lam_nodes[:, 1:])
     hess = _Scatter((n_z, n_z))
     for k, (hk_nz, sp) in enumerate(
         [(H0.nz[:], H0.sparsity())] + [(None, hn.sparsity_out(0))] * (n - 1)

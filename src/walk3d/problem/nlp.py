@@ -358,7 +358,7 @@ def build_nlp(
     if settings.derivatives == "structured":
         pieces = NlpPieces(z, f, g, node0, node, np.asarray(params), lift, range_np,
                            G_ROWS["hs_wrench"], _hs_map(ratios), 2.0 * sch.step, crit, N_G,
-                           g_loop, x)  # fmt: skip
+                           g_loop, x, settings.threads)  # fmt: skip
         prob["derivatives"] = derivative_functions(pieces)
     return prob, sch, lift
 

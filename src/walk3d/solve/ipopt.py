@@ -66,12 +66,13 @@ class SolveOutcome:
     max_constraint_violation: float = float("nan")
 
 
-def _ipopt_options(settings: PredictionSettings, max_iter: int) -> dict:
+def _ipopt_options(settings: PredictionSettings, stage: str) -> dict:
+    """IPOPT options of one stage (``posture``, ``balance`` or ``full``)."""
     return {
         "print_time": False,
         "ipopt.print_level": 0,
         "ipopt.sb": "yes",
-        "ipopt.max_iter": max_iter,
+        "ipopt.max_iter": settings.max_iter,
         "ipopt.tol": settings.tol,
         "ipopt.mu_strategy": "adaptive",
         "ipopt.linear_solver": "mumps",
@@ -90,14 +91,14 @@ def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     kin_prob, sch, lift = nlp.build_nlp(body, settings, dynamics=False)
     full_prob, _, _ = nlp.build_nlp(body, settings, dynamics=True)
     plugin = "ipopt" if method == "ipopt" else "sqpmethod"
-    if method == "ipopt":
-        opts = _ipopt_options(settings, settings.max_iter)
-    else:
-        opts = _sqp_options(settings)
+
+    def opts(stage: str) -> dict:
+        return _ipopt_options(settings, stage) if method == "ipopt" else _sqp_options(settings)
+
     g_full = ca.Function("walk3d_g", [full_prob["x"]], [full_prob["g"]])
-    post = ca.nlpsol("walk3d_posture", plugin, *_with_derivatives(post_prob, opts))
-    bal = ca.nlpsol("walk3d_balance", plugin, *_with_derivatives(kin_prob, opts))
-    full = ca.nlpsol("walk3d_full", plugin, *_with_derivatives(full_prob, opts))
+    post = ca.nlpsol("walk3d_posture", plugin, *_with_derivatives(post_prob, opts("posture")))
+    bal = ca.nlpsol("walk3d_balance", plugin, *_with_derivatives(kin_prob, opts("balance")))
+    full = ca.nlpsol("walk3d_full", plugin, *_with_derivatives(full_prob, opts("full")))
     return Solver(settings, body, post, bal, full, g_full, bounds(body, settings, sch),
                   bounds(body, settings, sch, dynamics=False),
                   bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
