@@ -74,10 +74,15 @@ def test_bounds_and_variables_have_matching_sizes(setup):
     g_node = b.lbg[n_lift : n_lift + sch.n * nlp.N_G].reshape(sch.n, nlp.N_G)
     assert np.all(g_node[sch.double_support, rows] == 0)
     assert np.all(np.isinf(g_node[sch.swing, rows]))
-    # the loop is also checked between consecutive double-support nodes
+    # the loop is also checked between consecutive double-support nodes and at toe-off
+    # (8 nodes: the last double-support node is well before it), within a tolerance
     t_loop = nlp.loop_check_times(s, sch)
-    assert t_loop.size == s.loop_checks * (sch.double_support.sum() - 1)
-    assert b.lbg.size - (n_lift + sch.n * nlp.N_G + 6) == 6 * t_loop.size
+    assert t_loop.size == s.loop_checks * (sch.double_support.sum() - 1) + 1
+    assert t_loop[-1] == pytest.approx(sch.times[0] + s.double_support)
+    assert b.lbg.size - (n_lift + sch.n * nlp.N_G + 6) - len(nlp.range_rows(body, s)[1]) == (
+        6 * t_loop.size
+    )
+    assert np.all(b.ubg[-6:] == s.loop_check_tolerance) and np.all(b.lbg[-6:] < 0)
 
 
 def test_loop_function_matches_the_node_rows(setup):

@@ -113,6 +113,7 @@ def bounds(
     n_lift = n_nodes * N_Y
     _, rlo, rhi = range_rows(body, settings)
     n_loop = 6 * loop_check_times(settings, sch).size
-    lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo, np.zeros(n_loop)])
-    ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6), rhi, np.zeros(n_loop)])
+    tol = np.full(n_loop, settings.loop_check_tolerance)
+    lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo, -tol])
+    ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6), rhi, tol])
     return Bounds(lbz, ubz, lbg, ubg)

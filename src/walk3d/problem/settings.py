@@ -64,6 +64,14 @@ class PredictionSettings(BaseModel):
     """Extra closed-loop checks between consecutive double-support nodes (position level).
     Off by default: with one check per interval the posture stage hit its iteration limit
     (800) where it converges in 62 iterations without (docs/solver.md)."""
+    loop_check_toe_off: bool = True
+    """Also check the closed loop at the trailing foot's toe-off. The last double-support node
+    falls up to one node step before toe-off, and without this check the trailing foot left
+    its roll-over path by up to 10 mm in that gap (20 nodes, seed 0)."""
+    loop_check_tolerance: float = 1e-3
+    """Half-width of the loop-check rows (m for position, quaternion vector units for
+    orientation; 1e-3 ≈ 0.1°). Inequalities, not equalities: stated exactly, these rows
+    nearly repeat the node rows and made IPOPT stall."""
     rollover_s: tuple[float, ...] | None = None
     """Calibrated roll-over knots (``sin(θ/2)`` of the foot rotation; ``walk3d calibrate``).
     None: the default arc roll-over scaled by foot length."""
@@ -99,6 +107,10 @@ class PredictionSettings(BaseModel):
             (6 <= self.nodes <= 200, f"nodes must be in [6, 200], got {self.nodes}"),
             (1 <= self.threads <= 64, f"threads must be in [1, 64], got {self.threads}"),
             (0 <= self.loop_checks <= 4, f"loop checks must be in [0, 4], got {self.loop_checks}"),
+            (
+                0 < self.loop_check_tolerance <= 0.05,
+                f"loop check tolerance must be in (0, 0.05], got {self.loop_check_tolerance}",
+            ),
             (0 < self.friction <= 2, f"friction must be in (0, 2], got {self.friction}"),
             (
                 0 <= self.free_moment_radius <= 0.1,
