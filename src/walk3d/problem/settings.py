@@ -50,11 +50,16 @@ class PredictionSettings(BaseModel):
     """Relative width of the smooth |x| used by the solver (see :mod:`walk3d.problem.criteria`)."""
     range_oversampling: int = 0
     """Extra linear joint-range rows on a grid this many times finer than the nodes (0: off)."""
-    posture_stage: bool = False
-    """Run the geometry-only posture stage before the balance stage. Off by default: from its
-    straight-legged result the full stage fell into a crouched optimum (C_tor 6.8, seed 0),
-    while the balance stage straight from standing led to walking (C_tor 1.88, knee 78° in
-    swing; docs/solver.md)."""
+    posture_stage: Literal["fallback", "first", "off"] = "fallback"
+    """When the geometry-only posture stage runs. ``fallback`` (default): the balance stage
+    starts from standing, and only if it has not converged within ``balance_max_iter``
+    iterations does the solve restart from standing through the posture stage. ``first``:
+    always posture, then balance. ``off``: never. The direct path led to walking on the paper's
+    subject; on the Falisse descriptors it stalled for some seeds, where posture-then-balance
+    converged to walking (docs/solver.md)."""
+    balance_max_iter: int = 250
+    """Iteration limit of the balance stage started straight from standing (it converged in
+    60–130 iterations when it converged at all) before the posture fallback."""
     arm_walking_ranges: bool = True
     """Narrow shoulder and elbow ranges to those of walking (walk3d.problem.bounds)."""
     threads: int = 1

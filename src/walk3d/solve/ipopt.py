@@ -1,6 +1,7 @@
 """Solving the prediction NLP with CasADi + IPOPT (exact Hessian), in stages.
 
-0. *posture* (optional, ``settings.posture_stage``): every kinematic constraint (closed
+0. *posture* (``settings.posture_stage``: by default only as a fallback when the balance stage
+   straight from standing has not converged): every kinematic constraint (closed
    double-support loop, stride V·T, swing clearance, foot flat, ranges), minimizing joint
    rates, accelerations and coordinates;
 1. *balance*: the same, plus the total ground reaction kept physical (Fy ≥ 0, friction, centre
@@ -39,6 +40,8 @@ class Solver:
     body: BodyModel
     posture: ca.Function
     balance: ca.Function
+    balance_direct: ca.Function
+    """The balance stage straight from standing, with ``balance_max_iter`` iterations."""
     full: ca.Function
     constraints: ca.Function
     """``g(z)`` of the full stage (used to start it consistently)."""
@@ -98,8 +101,12 @@ def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     g_full = ca.Function("walk3d_g", [full_prob["x"]], [full_prob["g"]])
     post = ca.nlpsol("walk3d_posture", plugin, *_with_derivatives(post_prob, opts("posture")))
     bal = ca.nlpsol("walk3d_balance", plugin, *_with_derivatives(kin_prob, opts("balance")))
+    direct = opts("balance") | (
+        {"ipopt.max_iter": settings.balance_max_iter} if method == "ipopt" else {}
+    )
+    bal_direct = ca.nlpsol("walk3d_balance_direct", plugin, *_with_derivatives(kin_prob, direct))
     full = ca.nlpsol("walk3d_full", plugin, *_with_derivatives(full_prob, opts("full")))
-    return Solver(settings, body, post, bal, full, g_full, bounds(body, settings, sch),
+    return Solver(settings, body, post, bal, bal_direct, full, g_full, bounds(body, settings, sch),
                   bounds(body, settings, sch, dynamics=False),
                   bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
                   time.perf_counter() - t0)  # fmt: skip
@@ -217,15 +224,23 @@ def solve(
     t0 = time.perf_counter()
     z = initial_guess(solver, seed)
     stages = []
-    if settings.posture_stage:
-        note("stage 0: walking posture (geometry only)")
-        z, info = _run(solver.posture, solver, z, "posture", solver.bounds_posture)
+    z_stand, info1 = z, None
+    if settings.posture_stage != "first":
+        note("stage 1/2: balance (walking posture, total reaction under the feet)")
+        limited = settings.posture_stage == "fallback"
+        fn = solver.balance_direct if limited else solver.balance
+        name = "balance_direct" if limited else "balance"
+        z, info1 = _run(fn, solver, z_stand, name, solver.bounds_balance)
+        stages.append(info1)
+    if settings.posture_stage != "off" and (info1 is None or info1["status"] not in IPOPT_SUCCESS):
+        note("stage 0: walking posture (geometry only), then balance")
+        z, info = _run(solver.posture, solver, z_stand, "posture", solver.bounds_posture)
         stages.append(info)
-    note("stage 1/2: balance (walking posture, total reaction under the feet)")
-    z, info1 = _run(solver.balance, solver, z, "balance", solver.bounds_balance)
+        z, info1 = _run(solver.balance, solver, z, "balance", solver.bounds_balance)
+        stages.append(info1)
     note(f"stage 2/2: minimizing C_{settings.criterion}")
     z, info2 = _run(solver.full, solver, full_stage_start(solver, z), "full", solver.bounds)
-    stages += [info1, info2]
+    stages.append(info2)
     return SolveOutcome(
         x=z[: layout.N_X].copy(),
         z=z,
