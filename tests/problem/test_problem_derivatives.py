@@ -27,8 +27,12 @@ def _dense(m) -> np.ndarray:
 @pytest.mark.parametrize(
     ("dynamics", "balance", "extra"),
     [
-        (True, True, {}),
-        (True, True, {"criterion": "en", "loop_checks": 1}),
+        # the full stage with every optional row: loop checks, calibrated heel-strike map
+        (
+            True,
+            True,
+            {"criterion": "en", "loop_checks": 1, "transition_ratios": (0.2, 0.05, 0.1, 0.3)},
+        ),
         (False, True, {}),
         (False, False, {}),
     ],
@@ -55,16 +59,3 @@ def test_structured_derivatives_equal_casadi(dynamics, balance, extra):
     assert all(i <= j for i, j in zip(r, c, strict=True))
     g_ref = ca.Function("g", [prob["x"]], [prob["g"]])(z0)
     np.testing.assert_allclose(np.array(g_val).ravel(), np.array(g_ref).ravel())
-
-
-def test_calibrated_heel_strike_map_enters_the_jacobian():
-    s = PredictionSettings(nodes=6, transition_ratios=(0.2, 0.05, 0.1, 0.3))
-    prob, _, _ = nlp.build_nlp(body_for(s), s)
-    jac, _, hess = _reference(prob)
-    z0 = np.random.default_rng(5).uniform(-0.1, 0.1, prob["x"].numel())
-    lam = np.random.default_rng(6).normal(size=prob["g"].numel())
-    d = prob["derivatives"]
-    np.testing.assert_allclose(_dense(d["jac_g"](z0, [])[1]), _dense(jac(z0)), atol=1e-11)
-    h_ref = _dense(hess(z0, 1.0, lam))
-    np.testing.assert_allclose(_dense(d["hess_lag"](z0, [], 1.0, lam)), h_ref,
-                               atol=1e-10 * np.abs(h_ref).max())  # fmt: skip

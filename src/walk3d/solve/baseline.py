@@ -44,7 +44,18 @@ class _Dense:
         self.lby = b.lbz[layout.N_X : layout.N_X + n_lift]
         self.uby = b.ubz[layout.N_X : layout.N_X + n_lift]
         self.lift = sv.lift.reshape(-1, layout.N_X)
+        t_loop = nlp.loop_check_times(settings, sv.schedule)
+        self.loop_map = layout.coordinate_maps(t_loop, settings.period)[0]  # (m, 26, N_X)
+        self.loop_fn = nlp.loop_function(sv.body, settings).map(max(t_loop.size, 1))
+        self.anchor = np.full((1, t_loop.size), -settings.stride_length / 2)
         self.evals = 0
+
+    def _loop(self, x: np.ndarray) -> np.ndarray:
+        """Loop-check rows (toe-off and between double-support nodes), as in the NLP."""
+        if not self.anchor.size:
+            return np.zeros(0)
+        c = np.einsum("mkj,j->km", self.loop_map, x[: layout.N_X])
+        return np.array(self.loop_fn(c, x[layout.I_HALF_STEP], self.anchor)).T.ravel()
 
     def _eval(self, x: np.ndarray):
         self.evals += 1
@@ -54,7 +65,7 @@ class _Dense:
         g, f = self.fn(y, w0, hw, self.params, np.zeros((nlp.N_T, self.n)))
         g, f = np.array(g), np.array(f)
         hs = g[nlp.G_ROWS["hs_wrench"], 0] - x[layout.N_X :]
-        g = np.r_[g.T.ravel(), self.range_mat @ x[: layout.N_X]]
+        g = np.r_[g.T.ravel(), self.range_mat @ x[: layout.N_X], self._loop(x)]
         return g, 2.0 * self.step * float(np.sum(f[self.crit])), hs, y.T.ravel()
 
     def objective(self, x):

@@ -1,0 +1,30 @@
+"""The SLSQP baseline states the same problem as the IPOPT NLP (same rows, same values)."""
+
+import casadi as ca
+import numpy as np
+
+from walk3d.problem import layout, nlp
+from walk3d.problem.settings import PredictionSettings
+from walk3d.solve.baseline import _Dense
+from walk3d.solve.ipopt import initial_guess
+
+
+def test_dense_rows_equal_the_lifted_nlp_rows():
+    s = PredictionSettings(nodes=6, absolute="smooth")
+    dense = _Dense(s, dynamics=True)
+    sv = dense.sv
+    x = initial_guess(sv, 3)[: layout.N_X]
+    w0 = np.array([0.02, 0.9, 0.01, 0.0, 0.01, 0.02])
+    g_dense, _, _, _ = dense._eval(np.r_[x, w0])
+    assert g_dense.size == dense.lbg.size  # every bounded row is computed, loop checks included
+    # the lifted NLP at the consistent point (Y = A x, slacks unused in the smooth form)
+    prob, sch, lift = nlp.build_nlp(sv.body, s)
+    y = np.einsum("kij,j->ki", lift, x).ravel()
+    z = np.r_[x, y, w0, np.zeros(sch.n * nlp.N_T)]
+    g = np.array(ca.Function("g", [prob["x"]], [prob["g"]])(z)).ravel()
+    n_lift, n_node = sch.n * nlp.N_Y, sch.n * nlp.N_G
+    np.testing.assert_allclose(g[:n_lift], 0.0, atol=1e-12)
+    expected = np.r_[g[n_lift : n_lift + n_node], g[n_lift + n_node + 6 :]]
+    bounded = np.isfinite(dense.lbg) | np.isfinite(dense.ubg)  # (unbounded rows may differ)
+    assert bounded[-6:].all()  # the toe-off loop check
+    np.testing.assert_allclose(g_dense[bounded], expected[bounded], rtol=1e-9, atol=1e-12)
