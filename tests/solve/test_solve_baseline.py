@@ -9,6 +9,14 @@ from walk3d.solve.baseline import _Dense
 from walk3d.solve.ipopt import initial_guess
 
 
+def test_dense_rows_have_the_bounds_of_each_stage():
+    s = PredictionSettings(nodes=6, absolute="smooth")
+    for dynamics in (False, True):
+        dense = _Dense(s, dynamics=dynamics)
+        g, _, _, _ = dense._eval(np.r_[initial_guess(dense.sv, 1)[: layout.N_X], np.zeros(6)])
+        assert g.size == dense.lbg.size == dense.ubg.size
+
+
 def test_dense_rows_equal_the_lifted_nlp_rows():
     s = PredictionSettings(nodes=6, absolute="smooth")
     dense = _Dense(s, dynamics=True)
