@@ -24,6 +24,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--starts", type=int, default=20)
+    ap.add_argument("--first-seed", type=int, default=0, help="seeds first-seed .. +K-1")
     ap.add_argument("--criterion", choices=("tor", "en"), default="tor")
     ap.add_argument("--nodes", type=int, default=20)
     ap.add_argument("--threads", type=int, default=1, help="threads per solve (CasADi map)")
@@ -62,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
         out_path.write_text(json.dumps(report, indent=2))  # after every start
 
     body = body_for(settings)
-    for seed in range(args.starts):
+    for seed in range(args.first_seed, args.first_seed + args.starts):
         out = ipopt.solve(settings, seed)
         ev = evaluate_cycle(body, settings, out.x)
         checks = walking_checks(ev.prediction_arrays, settings.period, settings.double_support,

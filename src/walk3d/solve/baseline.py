@@ -15,7 +15,7 @@ from scipy.optimize import minimize
 
 from walk3d.problem import layout, nlp
 from walk3d.problem.settings import PredictionSettings
-from walk3d.solve.ipopt import SolveOutcome, build_solver, early_stage_settings, initial_guess
+from walk3d.solve.ipopt import SolveOutcome, build_solver, initial_guess
 
 
 class _Dense:
@@ -44,8 +44,7 @@ class _Dense:
         self.lby = b.lbz[layout.N_X : layout.N_X + n_lift]
         self.uby = b.ubz[layout.N_X : layout.N_X + n_lift]
         self.lift = sv.lift.reshape(-1, layout.N_X)
-        stage = settings if dynamics else early_stage_settings(settings)
-        t_loop = nlp.loop_check_times(stage, sv.schedule)
+        t_loop = nlp.loop_check_times(settings, sv.schedule)
         self.loop_map = layout.coordinate_maps(t_loop, settings.period)[0]  # (m, 26, N_X)
         self.loop_fn = nlp.loop_function(sv.body, settings).map(max(t_loop.size, 1))
         self.anchor = np.full((1, t_loop.size), -settings.stride_length / 2)

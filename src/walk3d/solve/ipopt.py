@@ -86,24 +86,12 @@ def _ipopt_options(settings: PredictionSettings, stage: str) -> dict:
     }
 
 
-def early_stage_settings(settings: PredictionSettings) -> PredictionSettings:
-    """Settings of the posture and balance stages: without the toe-off loop check.
-
-    With it, the balance stage from standing converged for 1 of 5 seeds of the default
-    prediction within 250 iterations; without it, for 3 of 5 (seeds 0, 1, 4). The full stage
-    then adds the check (the balance result leaves the foot up to 10 mm off its roll-over just
-    before toe-off, which the full stage corrects).
-    """
-    return settings.model_copy(update={"loop_check_toe_off": False})
-
-
 @cache
 def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     t0 = time.perf_counter()
     body = body_for(settings)
-    early = early_stage_settings(settings)
-    post_prob, _, _ = nlp.build_nlp(body, early, dynamics=False, balance=False)
-    kin_prob, sch, lift = nlp.build_nlp(body, early, dynamics=False)
+    post_prob, _, _ = nlp.build_nlp(body, settings, dynamics=False, balance=False)
+    kin_prob, sch, lift = nlp.build_nlp(body, settings, dynamics=False)
     full_prob, _, _ = nlp.build_nlp(body, settings, dynamics=True)
     plugin = "ipopt" if method == "ipopt" else "sqpmethod"
 
@@ -119,8 +107,8 @@ def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     bal_direct = ca.nlpsol("walk3d_balance_direct", plugin, *_with_derivatives(kin_prob, direct))
     full = ca.nlpsol("walk3d_full", plugin, *_with_derivatives(full_prob, opts("full")))
     return Solver(settings, body, post, bal, bal_direct, full, g_full, bounds(body, settings, sch),
-                  bounds(body, early, sch, dynamics=False),
-                  bounds(body, early, sch, dynamics=False, balance=False), lift, sch,
+                  bounds(body, settings, sch, dynamics=False),
+                  bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
                   time.perf_counter() - t0)  # fmt: skip
 
 
