@@ -206,8 +206,13 @@ def _document(args, d, cal, fit, floor, preds, comps, t3, rel, data) -> str:
     else:
         for k, p in preds.items():
             conv = p.summary.get("converged")
+            inp = p.summary.get("inputs", {})
             lines.append(f"* {k}: `{getattr(args, k[2:].lower())}`, converged: "
-                         f"{'yes' if conv else 'NO: not a valid prediction'}")  # fmt: skip
+                         f"{'yes' if conv else 'NO: not a valid prediction'}; V = "
+                         f"{inp.get('speed', float('nan')):.4f} m/s, T = "
+                         f"{inp.get('period', float('nan')):.4f} s, Td = "
+                         f"{inp.get('double_support', float('nan')):.4f} s, seed "
+                         f"{inp.get('seed')}")  # fmt: skip
         lines.append("")
     lines += _table2(preds, comps, floor) + [""]
     lines += _verdict(comps)
@@ -268,8 +273,9 @@ def _document(args, d, cal, fit, floor, preds, comps, t3, rel, data) -> str:
         + f". [Figure]({rel}/transition.png). The cubic exponential unloads the trailing foot "
         "earlier than the plate shows (one double support on two plates in this trial).",
         "",
-        "`walk3d predict` does not use a calibration yet (`walk3d calibrate` writes one; "
-        "`walk3d.validation.apply_calibration` gives the calibrated body).",
+        "The predictions above use walk3d's default roll-over and ratios. `walk3d calibrate "
+        "--ik IK.mot --grf GRF.mot --out calib.json` writes this calibration, and `walk3d "
+        "predict --calibration calib.json` predicts with it (not run for this page).",
         "",
     ]  # fmt: skip
     return "\n".join(lines)
