@@ -89,6 +89,17 @@ def _triplets(sp: ca.Sparsity) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(r, dtype=int), np.asarray(c, dtype=int)
 
 
+def _per_node(first: ca.MX, rest: ca.MX, sp_rest: ca.Sparsity, n: int):
+    """``(nonzeros, rows, cols)`` of node 0's block, then of each mapped node's block (the
+    mapped output is the horizontal concatenation of the nodes' blocks)."""
+    r0, c0 = _triplets(first.sparsity())
+    yield first.nz[:], r0, c0
+    r, c = _triplets(sp_rest)
+    m = len(r)
+    for k in range(1, n):
+        yield rest.nz[(k - 1) * m : k * m], r, c
+
+
 class _Scatter:
     """Collects ``(row, col)`` targets of source nonzeros; builds ``nz_global = S @ nz_src``."""
 
@@ -148,7 +159,7 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
         return fn.map(n - 1, "thread", pc.threads) if pc.threads > 1 else fn.map(n - 1)
 
     J0, Jr = j0(v0, p0), mapped(jn)(vr, pr)
-    gf0, gfr = d0(v0, p0), dn.map(n - 1)(vr, pr)
+    gf0, gfr = d0(v0, p0), mapped(dn)(vr, pr)
 
     # Jacobian rows: [lifting (n*N_Y), nodes (n*N_G), hs (6), ranges, loop checks]
     jac = _Scatter((n_g, n_z))
@@ -157,11 +168,8 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     jac.add_const(lr, lc, -lift[lr, lc])
     jac.add_const(np.arange(n * N_Y), layout.N_X + np.arange(n * N_Y), np.ones(n * N_Y))
     off = n * N_Y
-    r0, c0 = _triplets(J0.sparsity())
-    jac.add(J0.nz[:], off + r0, cols[0][c0])
-    rr, cr = _triplets(jn.sparsity_out(0))
-    for k in range(1, n):
-        jac.add(Jr.nz[(k - 1) * len(rr) : k * len(rr)], off + k * pc.n_g_node + rr, cols[k][cr])
+    for k, (nz, r, c) in enumerate(_per_node(J0, Jr, jn.sparsity_out(0), n)):
+        jac.add(nz, off + k * pc.n_g_node + r, cols[k][c])
     off += n * pc.n_g_node
     j_hs = ca.mtimes(ca.DM(pc.hs_map), J0[pc.hs_rows.start : pc.hs_rows.stop, :])
     rh, ch = _triplets(j_hs.sparsity())
@@ -181,12 +189,8 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
 
     # gradient of the objective
     grad = _Scatter((n_z, 1))
-    rf, _ = _triplets(gf0.sparsity())
-    grad.add(pc.weight * gf0.nz[:], cols[0][rf], np.zeros(len(rf), dtype=int))
-    rfr, _ = _triplets(dn.sparsity_out(0))
-    for k in range(1, n):
-        seg = gfr.nz[(k - 1) * len(rfr) : k * len(rfr)]
-        grad.add(pc.weight * seg, cols[k][rfr], np.zeros(len(rfr), dtype=int))
+    for k, (nz, r, _) in enumerate(_per_node(gf0, gfr, dn.sparsity_out(0), n)):
+        grad.add(pc.weight * nz, cols[k][r], np.zeros(len(r), dtype=int))
     grad.add_const(np.arange(n_z), np.zeros(n_z, dtype=int), np.zeros(n_z))
 
     # Hessian of the Lagrangian: node 0 also carries the heel-strike rows (through hs_map)
@@ -201,15 +205,10 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     H0 = h0(v0, ca.DM(pc.params[:, 0]), sf, lam0)
     Hr = mapped(hn)(vr, pr, ca.repmat(sf, 1, n - 1), lam_nodes[:, 1:])
     hess = _Scatter((n_z, n_z))
-    for k, (hk_nz, sp) in enumerate(
-        [(H0.nz[:], H0.sparsity())] + [(None, hn.sparsity_out(0))] * (n - 1)
-    ):
-        r, c = _triplets(sp)
+    for k, (nz, r, c) in enumerate(_per_node(H0, Hr, hn.sparsity_out(0), n)):
         gr, gc = cols[k][r], cols[k][c]
-        keep = gr <= gc
-        if hk_nz is None:
-            hk_nz = Hr.nz[(k - 1) * len(r) : k * len(r)]
-        hess.add(hk_nz[np.flatnonzero(keep).tolist()], gr[keep], gc[keep])
+        keep = gr <= gc  # upper triangle in z's order (node order differs: hw comes first)
+        hess.add(nz[np.flatnonzero(keep).tolist()], gr[keep], gc[keep])
     if hess_extra is not None:
         rx, cx = _triplets(hess_extra.sparsity())
         hess.add(hess_extra.nz[:], rx, cx)
