@@ -69,8 +69,7 @@ class SolveOutcome:
     max_constraint_violation: float = float("nan")
 
 
-def _ipopt_options(settings: PredictionSettings, stage: str) -> dict:
-    """IPOPT options of one stage (``posture``, ``balance`` or ``full``)."""
+def _ipopt_options(settings: PredictionSettings) -> dict:
     return {
         "print_time": False,
         "ipopt.print_level": 0,
@@ -94,18 +93,13 @@ def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     kin_prob, sch, lift = nlp.build_nlp(body, settings, dynamics=False)
     full_prob, _, _ = nlp.build_nlp(body, settings, dynamics=True)
     plugin = "ipopt" if method == "ipopt" else "sqpmethod"
-
-    def opts(stage: str) -> dict:
-        return _ipopt_options(settings, stage) if method == "ipopt" else _sqp_options(settings)
-
+    opts = _ipopt_options(settings) if method == "ipopt" else _sqp_options(settings)
     g_full = ca.Function("walk3d_g", [full_prob["x"]], [full_prob["g"]])
-    post = ca.nlpsol("walk3d_posture", plugin, *_with_derivatives(post_prob, opts("posture")))
-    bal = ca.nlpsol("walk3d_balance", plugin, *_with_derivatives(kin_prob, opts("balance")))
-    direct = opts("balance") | (
-        {"ipopt.max_iter": settings.balance_max_iter} if method == "ipopt" else {}
-    )
+    post = ca.nlpsol("walk3d_posture", plugin, *_with_derivatives(post_prob, opts))
+    bal = ca.nlpsol("walk3d_balance", plugin, *_with_derivatives(kin_prob, opts))
+    direct = opts | ({"ipopt.max_iter": settings.balance_max_iter} if method == "ipopt" else {})
     bal_direct = ca.nlpsol("walk3d_balance_direct", plugin, *_with_derivatives(kin_prob, direct))
-    full = ca.nlpsol("walk3d_full", plugin, *_with_derivatives(full_prob, opts("full")))
+    full = ca.nlpsol("walk3d_full", plugin, *_with_derivatives(full_prob, opts))
     return Solver(settings, body, post, bal, bal_direct, full, g_full, bounds(body, settings, sch),
                   bounds(body, settings, sch, dynamics=False),
                   bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
