@@ -340,12 +340,8 @@ def build_nlp(
     gr, fr = mapped(ys[:, 1:], ca.repmat(w0, 1, rest), ca.repmat(hw, 1, rest),
                             params[:, 1:], ts[:, 1:])  # fmt: skip
     gk, fk = ca.horzcat(g0, gr), ca.horzcat(f0, fr)
-    hs = g0[G_ROWS["hs_wrench"]]
-    ratios = ratios_for(settings)
-    if ratios is not None:  # calibrated Eqs. 7–8 for the trailing (left) foot
-        (f_hs, m_hs) = apply_ratios(((hs[0], hs[1], hs[2]), (hs[3], hs[4], hs[5])), ratios, "l")
-        hs = ca.vertcat(*f_hs, *m_hs)
-    g_hs = hs - w0
+    hs_map = _hs_map(ratios_for(settings))  # calibrated Eqs. 7–8 for the trailing (left) foot
+    g_hs = ca.mtimes(ca.DM(hs_map), g0[G_ROWS["hs_wrench"]]) - w0
     crit = 0 if settings.criterion == "tor" else 1
     f = 2.0 * sch.step * ca.sum2(fk[crit, :])
     z = ca.vertcat(x, ca.vec(ys), w0, ca.vec(ts))
@@ -363,14 +359,15 @@ def build_nlp(
     prob = {"x": z, "f": f, "g": g}
     if settings.derivatives == "structured":
         pieces = NlpPieces(z, f, g, node0, node, np.asarray(params), lift, range_np,
-                           G_ROWS["hs_wrench"], _hs_map(ratios), 2.0 * sch.step, crit, N_G,
+                           G_ROWS["hs_wrench"], hs_map, 2.0 * sch.step, crit, N_G,
                            g_loop, x, settings.threads)  # fmt: skip
         prob["derivatives"] = derivative_functions(pieces)
     return prob, sch, lift
 
 
 def _hs_map(ratios) -> np.ndarray:
-    """The (linear) map from node 0's heel-strike rows to the trailing foot's load W0."""
+    """The map from node 0's heel-strike rows to the trailing foot's load W0: identity, or the
+    calibrated ratios of :func:`walk3d.contact.transition.apply_ratios` (linear in the rows)."""
     if ratios is None:
         return np.eye(6)
     cols = []

@@ -54,14 +54,15 @@ class PredictionSettings(BaseModel):
     """When the geometry-only posture stage runs. ``fallback`` (default): the balance stage
     starts from standing, and only if it has not converged within ``balance_max_iter``
     iterations does the solve restart from standing through the posture stage. ``first``:
-    always posture, then balance. ``off``: never. The direct path led to walking on the paper's
-    subject; on the Falisse descriptors it stalled for some seeds, where posture-then-balance
-    converged to walking (docs/solver.md)."""
+    always posture, then balance. ``off``: never. The fallback makes every start converge (8 of 8
+    measured), but from it the paper's subject mostly ended in a crouched optimum (seeds 1–4,
+    6, 7), while the Falisse descriptors walked (docs/solver.md)."""
     balance_max_iter: int = 250
-    """Iteration limit of the balance stage started straight from standing (it converged in
-    60–130 iterations when it converged at all) before the posture fallback."""
+    """Iteration limit of the balance stage started straight from standing before the posture
+    fallback (it converged in 102–285 iterations when it converged; 600 did not lead more
+    starts to walking)."""
     arm_walking_ranges: bool = True
-    """Narrow shoulder and elbow ranges to those of walking (walk3d.problem.bounds)."""
+    """Narrow shoulder and elbow ranges to those of walking (walk3d.problem.ranges)."""
     threads: int = 1
     """Threads evaluating the node functions and their derivatives (CasADi ``map``). Campaigns
     already use one process per core; a single prediction may use more."""
