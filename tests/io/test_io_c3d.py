@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from c3d_support import write_c3d
 
 from walk3d.io import DataFileError, read_c3d
 
@@ -16,36 +17,20 @@ N_FRAMES, POINT_RATE, ANALOG_RATE = 20, 100.0, 1000.0
 
 def _write_synthetic(path: Path) -> np.ndarray:
     """Two markers in mm moving 1 m/s along x, six plate channels; returns positions (m)."""
-    c3d = ezc3d.c3d()
-    c3d["parameters"]["POINT"]["RATE"]["value"] = [POINT_RATE]
-    c3d["parameters"]["POINT"]["LABELS"]["value"] = ("HEEL", "TOE")
-    c3d["parameters"]["POINT"]["UNITS"]["value"] = ["mm"]
     t = np.arange(N_FRAMES) / POINT_RATE
     pos_m = np.zeros((N_FRAMES, 2, 3))
     pos_m[:, 0] = np.column_stack([t, np.full_like(t, 0.05), np.full_like(t, 0.1)])
     pos_m[:, 1] = pos_m[:, 0] + [0.2, -0.02, 0.0]
-    points = np.ones((4, 2, N_FRAMES))
-    points[:3] = np.transpose(pos_m * 1000.0, (2, 1, 0))
-    points[:3, 1, 5] = np.nan  # TOE not seen in frame 5
-    c3d["data"]["points"] = points
-    ratio = int(ANALOG_RATE / POINT_RATE)
-    c3d["parameters"]["ANALOG"]["RATE"]["value"] = [ANALOG_RATE]
-    c3d["parameters"]["ANALOG"]["LABELS"]["value"] = ("Fx1", "Fy1", "Fz1", "Mx1", "My1", "Mz1")
-    c3d["parameters"]["ANALOG"]["UNITS"]["value"] = ("N", "N", "N", "Nmm", "Nmm", "Nmm")
-    analogs = np.zeros((1, 6, N_FRAMES * ratio))
-    analogs[0, 2] = -700.0  # plate pushed down by 700 N
-    analogs[0, 3] = 700.0 * 50.0  # Mx, N mm: centre of pressure 50 mm off centre in y
-    analogs[0, 4] = -700.0 * 100.0  # My, N mm: 100 mm off centre in x
-    c3d["data"]["analogs"] = analogs
-    fp = c3d["parameters"]["FORCE_PLATFORM"]
-    fp["USED"]["value"] = np.array([1])
-    fp["TYPE"]["value"] = np.array([2])
+    points = pos_m * 1000.0
+    points[5, 1] = np.nan  # TOE not seen in frame 5
+    channels = np.zeros((N_FRAMES * int(ANALOG_RATE / POINT_RATE), 6))
+    channels[:, 2] = -700.0  # plate pushed down by 700 N
+    channels[:, 3] = 700.0 * 50.0  # Mx, N mm: centre of pressure 50 mm off centre in y
+    channels[:, 4] = -700.0 * 100.0  # My, N mm: 100 mm off centre in x
     corners = np.array([[300, 200, 0], [-300, 200, 0], [-300, -200, 0], [300, -200, 0]], float)
-    fp["CORNERS"]["value"] = corners.T.reshape(3, 4, 1)
-    fp["ORIGIN"]["value"] = np.array([[0.0], [0.0], [-40.0]])
-    fp["CHANNEL"]["value"] = np.arange(1, 7).reshape(6, 1)
-    fp["CAL_MATRIX"]["value"] = np.zeros((6, 6, 1))
-    c3d.write(str(path))
+    write_c3d(path, point_rate=POINT_RATE, labels=("HEEL", "TOE"), points=points,
+              analog_rate=ANALOG_RATE, plates=[channels], corners=[corners],
+              origin=(0.0, 0.0, -40.0))  # fmt: skip
     return pos_m
 
 
