@@ -1,11 +1,12 @@
-"""File readers and writers of walk3d: OpenSim storages and ExternalLoads, TRC, C3D, cycle tables,
-calibration files and result tables.
+"""File readers and writers of walk3d: OpenSim storages and ExternalLoads, TRC, C3D (raw, and as
+a walking trial in walk3d's ground frame), cycle tables, calibration files and result tables.
 
 Gait-event detection and cycle normalisation for measured data live in :mod:`walk3d.io.events`.
 Every malformed or truncated file raises :class:`~walk3d.io.errors.DataFileError`.
 """
 
 from walk3d.io.c3d import AnalogData, C3dData, ForcePlatform, PointData, read_c3d
+from walk3d.io.c3d_trial import C3dTrial, read_c3d_trial
 from walk3d.io.calibration import read_calibration, write_calibration
 from walk3d.io.cycle_table import CycleTable, read_cycle_table
 from walk3d.io.errors import DataFileError
@@ -37,9 +38,11 @@ from walk3d.io.trc import TrcData, read_trc
 __all__ = [
     "AnalogData",
     "C3dData",
+    "C3dTrial",
     "ForcePlatform",
     "PointData",
     "read_c3d",
+    "read_c3d_trial",
     "read_calibration",
     "write_calibration",
     "write_csv_table",
