@@ -1,7 +1,9 @@
 """One validation run: predictions against references, Tables 2 and 3, figures and CSV files.
 
-References are files: cycle tables (``.csv``) and trial storages (``.mot``/``.sto``, recognised
-as IK, GRF or ID by :func:`walk3d.validation.trial.classify_storage`). Table 2 uses the first
+References are files: cycle tables (``.csv``), trial storages (``.mot``/``.sto``, recognised
+as IK, GRF or ID by :func:`walk3d.validation.trial.classify_storage`) and C3D files (``.c3d``,
+each one complete trial: force platforms and Plug-in Gait angles, see
+:func:`walk3d.validation.trial.load_c3d_trial`). Table 2 uses the first
 cycle table when there is one, otherwise the trial files cut into cycles. Several trials are
 told apart by their file names with the ``_ik``/``_grf``/``_id`` token removed
 (``gait_1_ik.mot`` + ``gait_1_grf.mot`` → trial ``gait_1``); one file of each kind is always one
@@ -35,7 +37,13 @@ from walk3d.validation.figures import comparison_figures
 from walk3d.validation.kinematics import kinematics_from_storage, kinematics_from_table
 from walk3d.validation.measured import GaitFit, fit_measured_gait
 from walk3d.validation.reference import Reference, reference_from_table
-from walk3d.validation.trial import Trial, classify_storage, load_trial, trial_reference
+from walk3d.validation.trial import (
+    Trial,
+    classify_storage,
+    load_c3d_trial,
+    load_trial,
+    trial_reference,
+)
 
 __all__ = ["Validation", "sort_references", "table2_rows", "validate"]
 
@@ -63,13 +71,14 @@ def _trial_key(path: Path) -> str:
 
 
 def sort_references(paths: Sequence[str | PathLike[str]]) -> tuple[list[Path], list[dict]]:
-    """``(cycle tables, trials)``; each trial is ``{"ik": Storage, "grf": ..., "id": ...}``.
+    """``(cycle tables, trials)``; each trial is ``{"ik": Storage, "grf": ..., "id": ...}``, or
+    ``{"c3d": Path}`` for a C3D file (read by :func:`load_c3d_trial`).
 
     Raises:
         FileNotFoundError, DataFileError: unreadable files. ValueError: a file that is neither a
         cycle table nor an IK/GRF/ID storage, or trial files that cannot be paired.
     """
-    tables, storages = [], []
+    tables, storages, c3d = [], [], []
     for raw in paths:
         path = Path(raw)
         if not path.is_file():
@@ -77,23 +86,26 @@ def sort_references(paths: Sequence[str | PathLike[str]]) -> tuple[list[Path], l
         if path.suffix.lower() in (".csv", ".txt"):
             tables.append(path)
             continue
+        if path.suffix.lower() == ".c3d":
+            c3d.append({"c3d": path})
+            continue
         storage = read_storage(path)
         kind = classify_storage(storage)
         if kind is None:
             raise ValueError(f"{path.name}: neither a cycle table nor an IK, GRF or ID storage")
         storages.append((kind, path, storage))
     if not storages:
-        return tables, []
+        return tables, c3d
     kinds = [k for k, _, _ in storages]
     if all(kinds.count(k) <= 1 for k in set(kinds)):
-        return tables, [{k: s for k, _, s in storages}]
+        return tables, [{k: s for k, _, s in storages}, *c3d]
     groups: dict[str, dict] = {}
     for kind, path, storage in storages:
         group = groups.setdefault(_trial_key(path), {})
         if kind in group:
             raise ValueError(f"two {kind.upper()} files for trial {_trial_key(path)!r}")
         group[kind] = storage
-    return tables, list(groups.values())
+    return tables, [*groups.values(), *c3d]
 
 
 def table2_rows(comparisons: Sequence[Comparison]) -> tuple[tuple[str, ...], list[dict]]:
@@ -146,7 +158,9 @@ def validate(
     mass, height, sex, notes = _subject(first)
     table_paths, trial_files = sort_references(references)
     trials: list[Trial] = [
-        load_trial(t.get("ik"), t.get("grf"), t.get("id"), threshold=threshold, speed=speed)
+        load_c3d_trial(t["c3d"], threshold=threshold, speed=speed)
+        if "c3d" in t
+        else load_trial(t.get("ik"), t.get("grf"), t.get("id"), threshold=threshold, speed=speed)
         for t in trial_files
     ]
     tables = [read_cycle_table(p) for p in table_paths]
@@ -200,7 +214,10 @@ def _measured_fit(body, trials, tables, table_paths, pred, notes):
     for t in trials:
         if t.ik is not None and t.descriptors is not None:
             d = t.descriptors
-            kin = kinematics_from_storage(t.ik)
+            kin = kinematics_from_storage(t.ik, "auto" if t.knee_sign is None else t.knee_sign)
+            if kin.pelvis_angles is None:
+                notes.append(f"{t.name}: no pelvis angles, so no walk3d ID of its kinematics")
+                continue
             hs = d.events["right"].heel_strikes
             if hs.size == 0:
                 continue
