@@ -291,7 +291,10 @@ def validate(
     pred_dir: Annotated[str, typer.Argument(help="Prediction folder (walk3d predict --out).")],
     reference: Annotated[
         list[str],
-        typer.Option("--reference", help="Cycle table .csv, or trial IK/GRF/ID storages (repeat)."),
+        typer.Option(
+            "--reference",
+            help="Cycle table .csv, trial IK/GRF/ID storages or C3D files (repeat).",
+        ),
     ],
     out: Annotated[
         str | None, typer.Option("--out", help="Output folder (default PRED_DIR/validation).")
