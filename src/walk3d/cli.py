@@ -305,6 +305,10 @@ def validate(
     speed: Annotated[
         float | None, typer.Option("--speed", help="Belt speed for treadmill trials, m/s.")
     ] = None,
+    forward: Annotated[
+        str | None,
+        typer.Option("--forward", help="Lab axis the walker faces in C3D files (+x, -y...)."),
+    ] = None,
 ) -> None:
     """Compare a prediction with measured walking: Table 2 (RMSE and r per quantity), Table 3
     (criteria and their x/y/z split) and figures, written to --out."""
@@ -322,7 +326,10 @@ def validate(
         fail(f"--threshold must be positive, got {threshold}")
     try:
         with console.status("walk3d: validating"):
-            v = run({"prediction": pred}, reference, target, threshold=threshold, speed=speed)
+            v = run(
+                {"prediction": pred}, reference, target,
+                threshold=threshold, speed=speed, forward=forward,
+            )  # fmt: skip
     except (OSError, DataFileError, ValueError, KeyError) as exc:
         fail(" ".join(str(exc).split()))
     console.print(table2(v, f"Table 2: {pred_dir} vs {v.reference.name}"))

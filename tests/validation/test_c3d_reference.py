@@ -164,8 +164,9 @@ def test_malformed_c3d(gait_c3d, synthetic_prediction, tmp_path):
     with pytest.raises(DataFileError, match=r"^cut\.c3d: "):
         load_c3d_trial(cut)
     pred = save_prediction(synthetic_prediction, tmp_path / "pred")
-    cmd = [sys.executable, "-m", "walk3d.cli", "validate", str(pred), "--reference", str(cut)]
-    r = subprocess.run(cmd, capture_output=True, text=True, timeout=120, env=cli_env())
-    assert r.returncode == 2, r.stdout + r.stderr
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("walk3d: error: cut.c3d:"), r.stderr
+    for ref, extra, start in ((cut, [], "cut.c3d: "), (gait_c3d, ["--forward", "up"], "forward")):
+        cmd = [sys.executable, "-m", "walk3d.cli", "validate", str(pred), "--reference", str(ref)]
+        r = subprocess.run(cmd + extra, capture_output=True, text=True, timeout=120, env=cli_env())
+        assert r.returncode == 2, r.stdout + r.stderr
+        lines = r.stderr.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith(f"walk3d: error: {start}"), r.stderr

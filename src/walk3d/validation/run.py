@@ -149,16 +149,18 @@ def validate(
     threshold: float = 20.0,
     speed: float | None = None,
     figures: bool = True,
+    forward: str | None = None,
 ) -> Validation:
     """Run the comparison (module doc); write ``table2.csv``, ``table3.csv``,
-    ``measured_fit.csv`` and the figures to ``out_dir`` when given."""
+    ``measured_fit.csv`` and the figures to ``out_dir`` when given. ``forward`` is the lab axis
+    the walker faces in C3D references (``"-y"``...; detected when None)."""
     if not predictions:
         raise ValueError("no prediction to validate")
     first = next(iter(predictions.values()))
     mass, height, sex, notes = _subject(first)
     table_paths, trial_files = sort_references(references)
     trials: list[Trial] = [
-        load_c3d_trial(t["c3d"], threshold=threshold, speed=speed)
+        load_c3d_trial(t["c3d"], threshold=threshold, speed=speed, forward=forward)
         if "c3d" in t
         else load_trial(t.get("ik"), t.get("grf"), t.get("id"), threshold=threshold, speed=speed)
         for t in trial_files
