@@ -1,0 +1,46 @@
+"""The ``walk3d`` command line (Typer + Rich).
+
+Bad input gives one clear error line on stderr and exit code 2. Commands live in
+:mod:`walk3d.cli.commands` (body, predict, campaign) and :mod:`walk3d.cli.validation`
+(validate, calibrate); shared options in :mod:`walk3d.cli.common`.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import typer
+
+from walk3d.cli import commands, validation  # noqa: F401  (register the commands)
+from walk3d.cli.common import app, err_console, fail
+
+__all__ = ["app", "fail", "main"]
+
+
+@app.callback()
+def _root() -> None:
+    """Predict three-dimensional whole-body human walking."""
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Console-script entry point: usage errors become one line and exit code 2."""
+    args = list(sys.argv[1:] if argv is None else argv) or ["--help"]
+    command = typer.main.get_command(app)
+    try:
+        rv = command.main(args=args, prog_name="walk3d", standalone_mode=False)
+    except KeyboardInterrupt:
+        err_console.print("walk3d: interrupted", markup=False)
+        sys.exit(130)
+    except Exception as exc:  # Typer vendors click: match its exceptions by shape
+        kind = type(exc).__name__
+        if kind == "Exit":
+            sys.exit(getattr(exc, "exit_code", 0))
+        if kind == "Abort":
+            err_console.print("walk3d: interrupted", markup=False)
+            sys.exit(130)
+        if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
+            msg = " ".join(exc.format_message().split())
+            sys.stderr.write(f"walk3d: error: {msg}\n")
+            sys.exit(2)
+        raise
+    sys.exit(rv if isinstance(rv, int) else 0)

@@ -1,0 +1,3 @@
+from walk3d.cli import main
+
+main()

@@ -1,0 +1,243 @@
+"""``walk3d body``, ``walk3d predict`` and ``walk3d campaign``."""
+
+from __future__ import annotations
+
+import json
+import sys
+from typing import Annotated
+
+import typer
+from rich.table import Table
+
+from walk3d.cli.common import (
+    CalibrationFile,
+    Criterion,
+    DoubleSupport,
+    FromTrial,
+    Height,
+    Mass,
+    Nodes,
+    Period,
+    Sex,
+    SolverName,
+    Speed,
+    TrialGrf,
+    app,
+    console,
+    fail,
+    settings_from_options,
+)
+
+
+@app.command()
+def body(
+    mass: Mass = 68.8,
+    height: Height = 1.77,
+    sex: Sex = "male",
+    as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+) -> None:
+    """Print the segment table (mass, centre of mass, inertia, length) and joint parameters."""
+    from walk3d.body.model import build_body
+    from walk3d.body.report import body_table
+
+    try:
+        model = build_body(mass, height, sex)
+    except ValueError as exc:
+        fail(str(exc))
+    table = body_table(model)
+    if as_json:
+        sys.stdout.write(json.dumps(table) + "\n")
+        return
+    t = Table(title=f"walk3d body: {mass:g} kg, {height:g} m, {sex} (de Leva 1996)")
+    for col in ("segment", "mass kg", "COM m (x, y, z)", "inertia kg m² (x, y, z)", "length m"):
+        t.add_column(col)
+    for s in table["segments"]:
+        t.add_row(
+            s["name"],
+            f"{s['mass_kg']:.4f}",
+            " ".join(f"{v:+.4f}" for v in s["com_m"]),
+            " ".join(f"{v:.4f}" for v in s["inertia_kg_m2"]),
+            f"{s['length_m']:.4f}",
+        )
+    console.print(t)
+    j = Table(title="joints (ranges in degrees, strengths in N m: positive / negative)")
+    for col in ("joint", "type", "DoF", "range", "strength"):
+        j.add_column(col)
+    for row in table["joints"]:
+        for k, dof in enumerate(row["dofs"]):
+            lo, hi = row["range_deg"][k]
+            j.add_row(
+                row["name"] if k == 0 else "",
+                row["type"] if k == 0 else "",
+                dof,
+                f"{lo:g} .. {hi:g}",
+                f"{row['strength_positive_Nm'][k]:.0f} / {row['strength_negative_Nm'][k]:.0f}",
+            )
+    console.print(j)
+
+
+def _calibration_fields(path: str | None) -> dict:
+    """Settings fields from a calibration file, or one error line and exit 2."""
+    if path is None:
+        return {}
+    from walk3d.io.calibration import read_calibration
+
+    try:
+        d = read_calibration(path)
+    except (OSError, ValueError) as exc:
+        fail(" ".join(str(exc).split()))
+    r, tr = d["rollover"], d["transition"]
+    return {
+        "rollover_s": tuple(float(v) for v in r["s"]),
+        "rollover_ankle": tuple(tuple(float(c) for c in p) for p in r["ankle_m"]),
+        "transition_ratios": tuple(float(tr[k]) for k in ("mu_x", "mu_z", "varpi_x", "varpi_y")),
+    }
+
+
+def _descriptors_from_trial(ctx, from_trial, grf, **given: float) -> tuple[float, float, float]:
+    """V, T, Td for predict: the trial's, except options given explicitly on the command line."""
+    if from_trial is None and grf is None:
+        return given["speed"], given["period"], given["double_support"]
+    if from_trial is None or grf is None:
+        fail("--from-trial and --grf go together")
+    from walk3d.validation.descriptors import descriptors_from_trial
+
+    explicit = {
+        k for k in given if getattr(ctx.get_parameter_source(k), "name", "") == "COMMANDLINE"
+    }
+    speed = given["speed"] if "speed" in explicit else None
+    try:
+        d = descriptors_from_trial(from_trial, grf, speed=speed)
+    except (OSError, ValueError) as exc:
+        fail(" ".join(str(exc).split()))
+    values = {"speed": d.speed, "period": d.period, "double_support": d.double_support}
+    values.update({k: given[k] for k in explicit})
+    console.print(
+        f"descriptors from {from_trial}: V = {values['speed']:.4f} m/s, "
+        f"T = {values['period']:.4f} s, Td = {values['double_support']:.4f} s "
+        f"(period: {d.period_method})",
+        markup=False,
+        soft_wrap=True,
+    )
+    return values["speed"], values["period"], values["double_support"]
+
+
+@app.command()
+def predict(
+    ctx: typer.Context,
+    out: Annotated[str, typer.Option("--out", help="Result folder (created).")],
+    speed: Speed = 1.3806,
+    period: Period = 1.08,
+    double_support: DoubleSupport = 0.16,
+    mass: Mass = 68.8,
+    height: Height = 1.77,
+    sex: Sex = "male",
+    criterion: Criterion = "tor",
+    seed: Annotated[int, typer.Option("--seed", help="Random start.")] = 0,
+    solver: SolverName = "ipopt",
+    nodes: Nodes = 20,
+    threads: Annotated[
+        int, typer.Option("--threads", help="Threads for one solve (node evaluations).")
+    ] = 1,
+    from_trial: FromTrial = None,
+    grf: TrialGrf = None,
+    calibration: CalibrationFile = None,
+) -> None:
+    """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot and
+    summary.png. Exit code 0 if the solve converged, 1 if not (results are still written and
+    labelled), 2 for bad input. With --from-trial IK.mot --grf GRF.mot, V, T and Td come from
+    the trial unless --speed, --period or --double-support are given explicitly."""
+    speed, period, double_support = _descriptors_from_trial(
+        ctx, from_trial, grf, speed=speed, period=period, double_support=double_support
+    )
+    settings = settings_from_options(
+        criterion, solver, seed, speed=speed, period=period, double_support=double_support,
+        mass=mass, height=height, sex=sex, nodes=nodes, threads=threads,
+        **_calibration_fields(calibration),
+    )  # fmt: skip
+    from walk3d.predict import predict as run
+
+    with console.status("walk3d: starting") as status:
+        pred = run(settings, seed, solver, out_dir=out,
+                   on_stage=lambda msg: status.update(f"walk3d: {msg}"))  # fmt: skip
+    s = pred.summary
+    t = Table(title=f"walk3d predict -> {out}")
+    t.add_column("quantity")
+    t.add_column("value")
+    verdict = "yes" if s["converged"] else "NO - not a valid prediction"
+    t.add_row("converged", f"{verdict} ({s['status']}, {s['iterations']} iterations)")
+    t.add_row("wall time", f"{s['wall_time_s']:.1f} s")
+    for key in ("C_tor", "C_en"):
+        c = s["objective"][key]
+        t.add_row(key, f"{c['total']:.4g}  (x {c['x']:.3g}, y {c['y']:.3g}, z {c['z']:.3g})")
+    t.add_row(
+        "stride length", f"{s['stride_length_m']:.4f} m (target {s['stride_length_target_m']:.4f})"
+    )
+    t.add_row("step width", f"{s['step_width_m']:.3f} m")
+    t.add_row("contact residual", f"{1000 * s['double_support_contact_residual_m']:.3f} mm")
+    t.add_row("max constraint violation", f"{s['max_constraint_violation']:.2e}")
+    console.print(t)
+    if not s["converged"]:
+        raise typer.Exit(1)
+
+
+@app.command()
+def campaign(
+    starts: Annotated[int, typer.Option("--starts", help="Number of random starts.")],
+    out: Annotated[str, typer.Option("--out", help="Campaign folder (created or resumed).")],
+    criterion: Criterion = "tor",
+    seed: Annotated[int, typer.Option("--seed", help="Base seed: start k uses seed+k.")] = 0,
+    workers: Annotated[
+        int | None, typer.Option("--workers", help="Local worker processes (default: cores).")
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            help="Address of a running Dask scheduler (its workers must see --out).",
+        ),
+    ] = None,
+    speed: Speed = 1.3806,
+    period: Period = 1.08,
+    double_support: DoubleSupport = 0.16,
+    mass: Mass = 68.8,
+    height: Height = 1.77,
+    sex: Sex = "male",
+    solver: SolverName = "ipopt",
+    nodes: Nodes = 20,
+    max_iter: Annotated[
+        int, typer.Option("--max-iter", help="Advanced: solver iteration limit per stage.")
+    ] = 800,
+) -> None:
+    """Run N random starts in parallel (Dask) and rank them. Each finished start is stored
+    at once in DIR/starts/seed_<seed>/ (a walk3d predict folder plus record.json); rerunning
+    the same command resumes (a larger --starts adds starts). Writes DIR/ranking.csv and
+    DIR/best/. Exit code 0 if a start converged, 1 if none did, 2 for bad input."""
+    if starts < 1:
+        fail(f"--starts must be a positive integer, got {starts}")
+    if workers is not None and workers < 1:
+        fail(f"--workers must be a positive integer, got {workers}")
+    if max_iter < 1:
+        fail(f"--max-iter must be a positive integer, got {max_iter}")
+    settings = settings_from_options(
+        criterion, solver, seed, speed=speed, period=period, double_support=double_support,
+        mass=mass, height=height, sex=sex, nodes=nodes, max_iter=max_iter,
+    )  # fmt: skip
+    from walk3d.campaign import CampaignMismatch, run_campaign
+    from walk3d.campaign.ranking import top_table
+
+    try:
+        report = run_campaign(settings, starts, seed, out, workers=workers, scheduler=scheduler,
+                              solver=solver, console=console)  # fmt: skip
+    except CampaignMismatch as exc:
+        fail(" ".join(str(exc).split()))
+    console.print(top_table(report.rows, criterion))
+    console.print(
+        f"{len(report.rows)} starts in {out}: {report.converged} converged, "
+        f"{report.errors} errors; this run {report.ran}, resumed {report.skipped} "
+        f"({report.wall_time_s:.1f} s); ranking in {out}/ranking.csv"
+    )
+    if report.best_seed is None:
+        console.print("no start converged: no best/ folder was written")
+        raise typer.Exit(1)
+    console.print(f"best converged start: seed {report.best_seed}, copied to {out}/best/")

@@ -1,0 +1,67 @@
+"""Shared pieces of the ``walk3d`` command line: the Typer app, consoles, option types,
+the one-line error exit and settings validation."""
+
+from __future__ import annotations
+
+import os
+import sys
+from typing import Annotated
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import typer  # noqa: E402
+from rich.console import Console  # noqa: E402
+
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help="Predict three-dimensional whole-body human walking.",
+    pretty_exceptions_enable=False,
+)
+console = Console()
+err_console = Console(stderr=True)
+
+Mass = Annotated[float, typer.Option("--mass", help="Body mass, kg.")]
+Height = Annotated[float, typer.Option("--height", help="Stature, m.")]
+Sex = Annotated[str, typer.Option("--sex", help="de Leva table: male or female.")]
+Speed = Annotated[float, typer.Option("--speed", help="Walking speed V, m/s.")]
+Period = Annotated[float, typer.Option("--period", help="Gait-cycle period T, s.")]
+DoubleSupport = Annotated[
+    float, typer.Option("--double-support", help="Double-support duration Td, s.")
+]
+Criterion = Annotated[str, typer.Option("--criterion", help="tor or en.")]
+SolverName = Annotated[str, typer.Option("--solver", help="ipopt or sqp.")]
+Nodes = Annotated[int, typer.Option("--nodes", help="Time nodes per half cycle.")]
+FromTrial = Annotated[
+    str | None,
+    typer.Option(
+        "--from-trial", help="IK .mot of a measured trial: V, T and Td from it (needs --grf)."
+    ),
+]
+TrialGrf = Annotated[str | None, typer.Option("--grf", help="GRF .mot of the --from-trial trial.")]
+CalibrationFile = Annotated[
+    str | None,
+    typer.Option("--calibration", help="Calibration JSON (walk3d calibrate): roll-over, ratios."),
+]
+
+
+def fail(message: str, code: int = 2) -> None:
+    """Print one error line and exit (2 = bad input)."""
+    sys.stderr.write(f"walk3d: error: {message}\n")
+    raise typer.Exit(code)
+
+
+def settings_from_options(criterion: str, solver: str, seed: int, **fields):
+    """Validated PredictionSettings from command-line values, or one error line and exit 2."""
+    from walk3d.problem.settings import PredictionSettings, first_error
+
+    if criterion not in ("tor", "en"):
+        fail(f"--criterion must be 'tor' or 'en', got {criterion!r}")
+    if solver not in ("ipopt", "sqp"):
+        fail(f"--solver must be 'ipopt' or 'sqp', got {solver!r}")
+    if seed < 0:
+        fail(f"--seed must be a non-negative integer, got {seed}")
+    try:
+        return PredictionSettings(criterion=criterion, **fields)
+    except ValueError as exc:
+        fail(first_error(exc))

@@ -1,0 +1,111 @@
+"""``walk3d validate`` and ``walk3d calibrate`` (issue 5: measured trials)."""
+
+from __future__ import annotations
+
+import os
+from typing import Annotated
+
+import typer
+
+from walk3d.cli.common import Height, Mass, Sex, app, console, fail
+
+
+@app.command()
+def validate(
+    pred_dir: Annotated[str, typer.Argument(help="Prediction folder (walk3d predict --out).")],
+    reference: Annotated[
+        list[str],
+        typer.Option(
+            "--reference",
+            help="Cycle table .csv, trial IK/GRF/ID storages or C3D files (repeat).",
+        ),
+    ],
+    out: Annotated[
+        str | None, typer.Option("--out", help="Output folder (default PRED_DIR/validation).")
+    ] = None,
+    threshold: Annotated[
+        float, typer.Option("--threshold", help="Force-plate contact threshold, N.")
+    ] = 20.0,
+    speed: Annotated[
+        float | None, typer.Option("--speed", help="Belt speed for treadmill trials, m/s.")
+    ] = None,
+    forward: Annotated[
+        str | None,
+        typer.Option("--forward", help="Lab axis the walker faces in C3D files (+x, -y...)."),
+    ] = None,
+) -> None:
+    """Compare a prediction with measured walking: Table 2 (RMSE and r per quantity), Table 3
+    (criteria and their x/y/z split) and figures, written to --out."""
+    from walk3d.io.errors import DataFileError
+    from walk3d.results.prediction import load_result
+    from walk3d.validation.run import validate as run
+    from walk3d.validation.tables import table2, table3
+
+    try:
+        pred = load_result(pred_dir)
+    except (OSError, DataFileError) as exc:
+        fail(f"cannot read the prediction {pred_dir}: {' '.join(str(exc).split())}")
+    target = out if out is not None else os.path.join(pred_dir, "validation")
+    if threshold <= 0:
+        fail(f"--threshold must be positive, got {threshold}")
+    try:
+        with console.status("walk3d: validating"):
+            v = run(
+                {"prediction": pred}, reference, target,
+                threshold=threshold, speed=speed, forward=forward,
+            )  # fmt: skip
+    except (OSError, DataFileError, ValueError, KeyError) as exc:
+        fail(" ".join(str(exc).split()))
+    console.print(table2(v, f"Table 2: {pred_dir} vs {v.reference.name}"))
+    if v.table3:
+        console.print(table3(v.table3))
+    if v.fit is not None:
+        worst = max(v.fit.rmse_deg.items(), key=lambda kv: kv[1])
+        console.print(
+            f"fit of the measured angles ({v.fit_source}): largest RMSE {worst[1]:.2f} deg "
+            f"({worst[0]}); per DoF in measured_fit.csv",
+            markup=False,
+        )
+    for note in v.notes:
+        console.print(f"note: {note}", markup=False)
+    console.print(f"written to {target}: " + ", ".join(p.name for p in v.files.values()),
+                  markup=False)  # fmt: skip
+
+
+@app.command()
+def calibrate(
+    ik: Annotated[str, typer.Option("--ik", help="IK .mot of a measured trial.")],
+    grf: Annotated[str, typer.Option("--grf", help="GRF .mot of the same trial.")],
+    out: Annotated[str, typer.Option("--out", help="Calibration file to write (.json).")],
+    mass: Mass = 68.8,
+    height: Height = 1.77,
+    sex: Sex = "male",
+    threshold: Annotated[
+        float, typer.Option("--threshold", help="Force-plate contact threshold, N.")
+    ] = 20.0,
+    speed: Annotated[
+        float | None, typer.Option("--speed", help="Belt speed for treadmill trials, m/s.")
+    ] = None,
+) -> None:
+    """Fit the stance-foot roll-over and the double-support transition ratios to a trial and
+    write them to a calibration file, with the figures OUT_rollover.png and
+    OUT_transition.png beside it."""
+    from walk3d.body.model import build_body
+    from walk3d.io.errors import DataFileError
+    from walk3d.validation.calibrate import calibrate_from_trial
+    from walk3d.validation.tables import calibration_table
+
+    if sex not in ("male", "female"):
+        fail(f"--sex must be 'male' or 'female', got {sex!r}")
+    try:
+        body = build_body(mass, height, sex)
+    except ValueError as exc:
+        fail(str(exc))
+    try:
+        with console.status("walk3d: calibrating"):
+            result = calibrate_from_trial(ik, grf, body, out, threshold=threshold, speed=speed)
+    except (OSError, DataFileError, ValueError) as exc:
+        fail(" ".join(str(exc).split()))
+    console.print(calibration_table(result, f"walk3d calibrate -> {out}"))
+    console.print("units: forces N/kg, moments N m/kg; figures: " +
+                  ", ".join(str(p) for p in result.figures), markup=False)  # fmt: skip
