@@ -318,12 +318,9 @@ def _node_name(dynamics: bool, balance: bool, with_hs: bool) -> str:
 
 
 def model_functions(body: BodyModel, settings: PredictionSettings) -> dict[str, ca.Function]:
-    """Every SX function the NLPs of :data:`STAGES` call: two node functions per stage (with and
-    without the heel-strike rows) and the loop function, by name (``build_nlp(functions=...)``).
-
-    Their symbolic construction in Python is the part of a build that CasADi's serialization
-    reads back quickly, so these are what :mod:`walk3d.io.model_cache` keeps on disk. They do
-    not depend on ``nodes`` or the solver options (``tests/solve/test_solve_cache.py``).
+    """The SX functions the NLPs of :data:`STAGES` call, by name: two node functions per stage
+    (with and without the heel-strike rows) and the loop function. Built in Python, they are
+    the part of a build CasADi reads back quickly, so :mod:`walk3d.io.model_cache` keeps them.
     """
     fns = {"loop": loop_function(body, settings)}
     for dynamics, balance in STAGES.values():
@@ -345,9 +342,8 @@ def build_nlp(
 
     ``g = [lifting (n × 78), node rows (n × N_G), heel-strike wrench (6), joint-range rows,
     loop checks (6 per :func:`loop_check_times`)]``. The node function is called once through
-    ``map``, so derivatives are generated once per node function. ``functions`` (from
-    :func:`model_functions`, possibly read from the cache) supplies prebuilt SX functions;
-    missing ones are built here.
+    ``map``, so derivatives are generated once per node function. ``functions``: prebuilt SX
+    functions (:func:`model_functions`, maybe from the cache); missing ones are built here.
     """
     sch = schedule(settings)
     fns = functions or {}
