@@ -20,6 +20,18 @@ from walk3d.kinematics.forward import (  # noqa: E402
 PERIOD = 1.08
 
 
+@pytest.fixture(scope="session", autouse=True)
+def _model_cache_dir(tmp_path_factory):
+    """Keep the on-disk model cache (walk3d.io.model_cache) of the tests out of the user's."""
+    old = os.environ.get("WALK3D_CACHE_DIR")
+    os.environ["WALK3D_CACHE_DIR"] = str(tmp_path_factory.mktemp("model-cache"))
+    yield
+    if old is None:
+        os.environ.pop("WALK3D_CACHE_DIR", None)
+    else:
+        os.environ["WALK3D_CACHE_DIR"] = old
+
+
 @pytest.fixture(scope="session")
 def body():
     return build_body()

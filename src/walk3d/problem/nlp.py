@@ -309,19 +309,50 @@ def loop_check_times(settings: PredictionSettings, sch: Schedule) -> np.ndarray:
     return np.array(times)
 
 
+STAGES = {"posture": (False, False), "balance": (False, True), "full": (True, True)}
+"""``(dynamics, balance)`` of the NLP of each solver stage."""
+
+
+def _node_name(dynamics: bool, balance: bool, with_hs: bool) -> str:
+    return f"node_d{int(dynamics)}b{int(balance)}h{int(with_hs)}"
+
+
+def model_functions(body: BodyModel, settings: PredictionSettings) -> dict[str, ca.Function]:
+    """The SX functions the NLPs of :data:`STAGES` call, by name: two node functions per stage
+    (with and without the heel-strike rows) and the loop function. Built in Python, they are
+    the part of a build CasADi reads back quickly, so :mod:`walk3d.io.model_cache` keeps them.
+    """
+    fns = {"loop": loop_function(body, settings)}
+    for dynamics, balance in STAGES.values():
+        for with_hs in (True, False):
+            fn = node_function(body, settings, dynamics, with_hs=with_hs, balance=balance)
+            fns[_node_name(dynamics, balance, with_hs)] = fn
+    return fns
+
+
 def build_nlp(
-    body: BodyModel, settings: PredictionSettings, dynamics: bool = True, balance: bool = True
+    body: BodyModel,
+    settings: PredictionSettings,
+    dynamics: bool = True,
+    balance: bool = True,
+    functions: dict[str, ca.Function] | None = None,
 ):
     """Symbolic NLP dict ``{x, f, g}`` (MX calling the per-node SX function), its
     :class:`Schedule` and the lifting maps ``(n_nodes, 78, N_X)``.
 
     ``g = [lifting (n × 78), node rows (n × N_G), heel-strike wrench (6), joint-range rows,
     loop checks (6 per :func:`loop_check_times`)]``. The node function is called once through
-    ``map``, so derivatives are generated once per node function.
+    ``map``, so derivatives are generated once per node function. ``functions``: prebuilt SX
+    functions (:func:`model_functions`, maybe from the cache); missing ones are built here.
     """
     sch = schedule(settings)
-    node0 = node_function(body, settings, dynamics, with_hs=True, balance=balance)
-    node = node_function(body, settings, dynamics, with_hs=False, balance=balance)
+    fns = functions or {}
+
+    def node_fn(with_hs: bool) -> ca.Function:
+        fn = fns.get(_node_name(dynamics, balance, with_hs))
+        return fn or node_function(body, settings, dynamics, with_hs=with_hs, balance=balance)
+
+    node0, node = node_fn(True), node_fn(False)
     n_nodes = sch.n
     a0, a1, a2 = layout.coordinate_maps(sch.times, settings.period)
     omega = 2 * np.pi / settings.period
@@ -352,7 +383,8 @@ def build_nlp(
         c_map = ca.DM(layout.coordinate_maps(t_loop, settings.period)[0].reshape(-1, layout.N_X))
         c_loop = ca.reshape(ca.mtimes(ca.sparsify(c_map), x), layout.N_COORD, t_loop.size)
         anchor = ca.DM(np.full((1, t_loop.size), -settings.stride_length / 2))
-        g_loop = ca.vec(loop_function(body, settings).map(t_loop.size)(c_loop, hw, anchor))
+        loop = fns.get("loop") or loop_function(body, settings)
+        g_loop = ca.vec(loop.map(t_loop.size)(c_loop, hw, anchor))
     else:
         g_loop = ca.MX(0, 1)
     g = ca.vertcat(g_lift, ca.vec(gk), g_hs, ca.mtimes(range_mat, x), g_loop)

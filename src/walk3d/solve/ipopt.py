@@ -10,7 +10,9 @@
 
 All start from the paper's initial guess: upright standing (all coefficients zero) plus uniform
 random numbers drawn from the seed. No measured data enters. Solvers are built once per
-settings and kept in memory (:func:`build_solver`). docs/solver.md has the measurements.
+settings and kept in memory (:func:`build_solver`); the slow symbolic part of a build, the
+model's SX functions, is also kept on disk for the next process (:mod:`walk3d.io.model_cache`).
+docs/solver.md has the measurements.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ import casadi as ca
 import numpy as np
 
 from walk3d.body.model import BodyModel
+from walk3d.io import model_cache
 from walk3d.problem import layout, nlp
 from walk3d.problem.bounds import Bounds, bounds
 from walk3d.problem.settings import PredictionSettings, body_for
@@ -51,6 +54,8 @@ class Solver:
     lift: np.ndarray
     schedule: nlp.Schedule
     build_time_s: float
+    from_cache: bool = False
+    """Whether the model's SX functions were read from the on-disk cache."""
 
 
 @dataclass
@@ -85,13 +90,40 @@ def _ipopt_options(settings: PredictionSettings) -> dict:
     }
 
 
+RUNTIME_FIELDS = frozenset({
+    "nodes", "threads", "derivatives", "range_oversampling", "loop_checks", "loop_check_toe_off",
+    "loop_check_tolerance", "posture_stage", "balance_max_iter", "perturbation", "max_iter", "tol",
+})  # fmt: skip
+"""Settings that :func:`walk3d.problem.nlp.model_functions` does not read (they shape the NLP
+around the node functions, the solver options or the start), so they are left out of the
+cache key: settings differing only in these share an entry. A test records the fields that
+``model_functions`` reads (``tests/solve/test_solve_cache.py``)."""
+
+
+def _model_functions(
+    body: BodyModel, settings: PredictionSettings, use_cache: bool
+) -> tuple[dict[str, ca.Function], bool]:
+    """The model's SX functions, from the disk cache when possible: ``(functions, from_cache)``."""
+    if not use_cache:
+        return nlp.model_functions(body, settings), False
+    model_settings = settings.model_dump(exclude=set(RUNTIME_FIELDS))
+    key = model_cache.model_key(model_settings, body)
+    functions = model_cache.read_functions(key)
+    if functions is not None:
+        return functions, True
+    functions = nlp.model_functions(body, settings)
+    model_cache.write_functions(key, functions)
+    return functions, False
+
+
 @cache
-def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
+def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool = True) -> Solver:
     t0 = time.perf_counter()
     body = body_for(settings)
-    post_prob, _, _ = nlp.build_nlp(body, settings, dynamics=False, balance=False)
-    kin_prob, sch, lift = nlp.build_nlp(body, settings, dynamics=False)
-    full_prob, _, _ = nlp.build_nlp(body, settings, dynamics=True)
+    fns, hit = _model_functions(body, settings, use_cache)
+    post_prob, _, _ = nlp.build_nlp(body, settings, dynamics=False, balance=False, functions=fns)
+    kin_prob, sch, lift = nlp.build_nlp(body, settings, dynamics=False, functions=fns)
+    full_prob, _, _ = nlp.build_nlp(body, settings, dynamics=True, functions=fns)
     plugin = "ipopt" if method == "ipopt" else "sqpmethod"
     opts = _ipopt_options(settings) if method == "ipopt" else _sqp_options(settings)
     g_full = ca.Function("walk3d_g", [full_prob["x"]], [full_prob["g"]])
@@ -103,7 +135,7 @@ def _build(settings: PredictionSettings, method: str = "ipopt") -> Solver:
     return Solver(settings, body, post, bal, bal_direct, full, g_full, bounds(body, settings, sch),
                   bounds(body, settings, sch, dynamics=False),
                   bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
-                  time.perf_counter() - t0)  # fmt: skip
+                  time.perf_counter() - t0, hit)  # fmt: skip
 
 
 def _with_derivatives(prob: dict, opts: dict) -> tuple[dict, dict]:
@@ -129,9 +161,15 @@ def _sqp_options(settings: PredictionSettings) -> dict:
     }
 
 
-def build_solver(settings: PredictionSettings, method: str = "ipopt") -> Solver:
-    """The solver for these settings (built on first use, then reused in this process)."""
-    return _build(settings, method)
+def build_solver(
+    settings: PredictionSettings, method: str = "ipopt", cache: bool | None = None
+) -> Solver:
+    """The solver for these settings (built on first use, then reused in this process).
+
+    ``cache``: whether to read and write the model's SX functions in the on-disk cache
+    (:mod:`walk3d.io.model_cache`); None (default) follows ``$WALK3D_CACHE`` (on unless ``0``).
+    """
+    return _build(settings, method, model_cache.cache_enabled(cache))
 
 
 def initial_guess(solver: Solver, seed: int) -> np.ndarray:

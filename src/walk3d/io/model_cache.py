@@ -1,0 +1,173 @@
+"""On-disk cache of the model's CasADi functions, so that a new process skips their construction.
+
+What is kept: the SX functions of :func:`walk3d.problem.nlp.model_functions` (the node
+functions of every stage and the loop function). Building them is Python-level symbolic work
+(0.5-0.9 s each, about 4 s of the 12-16 s build at 20 nodes); CasADi reads them back in a few
+hundredths of a second. What is *not* kept, because CasADi's serialization reads it back more
+slowly than it is built (docs/solver.md has the measurements):
+
+* the per-node derivative functions: the full stage's Hessian has 1.7 million SX
+  instructions, serializes to 150 MB and took 2.5-8 s to read back against 1.7 s to build;
+* the ``nlpsol`` objects themselves: serializing all four works in casadi 3.8.2 (custom
+  ``grad_f``/``jac_g``/``hess_lag`` options included, same IPOPT iterates), but made 760 MB
+  that took 18 s to read against 15 s to build.
+
+An entry is one ASCII file ``model-<key>.casadi``: a header line ``walk3d-model-cache <schema>
+<sha256 of the rest>``, then a :class:`casadi.StringSerializer` payload (the key, the names,
+the functions). It is written through :func:`walk3d.io._atomic.atomic_write_text` (temporary
+file, then ``os.replace``), so concurrent campaign workers never read half an entry; the
+checksum catches any other damage. Every read failure counts as a miss (the caller rebuilds)
+and every write failure is logged and ignored: the cache never makes a build fail.
+
+Location: ``$WALK3D_CACHE_DIR``, else the user cache folder (``$XDG_CACHE_HOME/walk3d`` or
+``~/.cache/walk3d``; ``~/Library/Caches/walk3d`` on macOS; ``%LOCALAPPDATA%\\walk3d\\Cache``
+on Windows). ``WALK3D_CACHE=0`` (or ``false``, ``no``, ``off``) turns the cache off.
+Entries are never pruned; each takes a few MB, and deleting the folder is always safe.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import logging
+import os
+import sys
+from functools import cache
+from pathlib import Path
+
+import casadi as ca
+import numpy as np
+
+import walk3d
+from walk3d.io._atomic import atomic_write_text
+
+__all__ = ["SCHEMA", "cache_dir", "cache_enabled", "model_key", "read_functions",
+           "write_functions"]  # fmt: skip
+
+SCHEMA = 1
+"""Raise when the entry format or the set of cached functions changes."""
+ENV_DIR = "WALK3D_CACHE_DIR"
+ENV_SWITCH = "WALK3D_CACHE"
+_MAGIC = "walk3d-model-cache"
+_OFF = {"0", "false", "no", "off"}
+log = logging.getLogger(__name__)
+
+
+def cache_enabled(flag: bool | None = None) -> bool:
+    """``flag`` if given, else whether ``$WALK3D_CACHE`` leaves the cache on (the default)."""
+    if flag is not None:
+        return flag
+    return os.environ.get(ENV_SWITCH, "1").strip().lower() not in _OFF
+
+
+def cache_dir() -> Path:
+    """The cache folder: ``$WALK3D_CACHE_DIR``, else the platform's user cache folder."""
+    env = os.environ.get(ENV_DIR)
+    if env:
+        return Path(env).expanduser()
+    home = Path.home()
+    if sys.platform == "win32":
+        local = os.environ.get("LOCALAPPDATA") or home / "AppData" / "Local"
+        return Path(local) / "walk3d" / "Cache"
+    if sys.platform == "darwin":
+        return home / "Library" / "Caches" / "walk3d"
+    return Path(os.environ.get("XDG_CACHE_HOME") or home / ".cache") / "walk3d"
+
+
+def _feed(h, obj: object) -> None:
+    """Feed a canonical byte form of ``obj`` (dataclasses, arrays, containers, scalars)."""
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        h.update(f"<{type(obj).__qualname__}".encode())
+        for f in dataclasses.fields(obj):
+            h.update(f.name.encode())
+            _feed(h, getattr(obj, f.name))
+        h.update(b">")
+    elif isinstance(obj, np.ndarray):
+        h.update(f"<nd {obj.dtype.str} {obj.shape}>".encode())
+        h.update(np.ascontiguousarray(obj).tobytes())
+    elif isinstance(obj, (tuple, list)):
+        h.update(f"<seq {len(obj)}".encode())
+        for item in obj:
+            _feed(h, item)
+        h.update(b">")
+    elif isinstance(obj, dict):
+        h.update(f"<map {len(obj)}".encode())
+        for k in sorted(obj, key=repr):
+            _feed(h, k)
+            _feed(h, obj[k])
+        h.update(b">")
+    elif isinstance(obj, float):
+        h.update(f"<f {obj.hex()}>".encode())
+    else:  # str, int, bool, None; anything else by repr (at worst a needless miss)
+        h.update(f"<{type(obj).__name__} {obj!r}>".encode())
+
+
+@cache
+def _source_digest() -> str:
+    """SHA-256 of walk3d's own source and data files: the functions are built by this code,
+    and a development checkout changes it without changing the version (a few ms)."""
+    root = Path(walk3d.__file__).resolve().parent
+    h = hashlib.sha256()
+    for p in sorted(root.rglob("*")):
+        if p.suffix in {".py", ".toml"} and p.is_file():
+            h.update(p.relative_to(root).as_posix().encode())
+            h.update(p.read_bytes())
+    return h.hexdigest()
+
+
+def model_key(model_settings: object, body: object) -> str:
+    """Hex key of an entry: the settings that shape the functions, the body model, the schema,
+    the casadi and walk3d versions and walk3d's source files."""
+    h = hashlib.sha256()
+    for part in (SCHEMA, ca.__version__, walk3d.__version__, _source_digest(), model_settings,
+                 body):  # fmt: skip
+        _feed(h, part)
+    return h.hexdigest()[:32]
+
+
+def _entry(key: str) -> Path:
+    return cache_dir() / f"model-{key}.casadi"
+
+
+def read_functions(key: str) -> dict[str, ca.Function] | None:
+    """The functions stored under ``key``, or None if there is no entry or it is unreadable."""
+    path = _entry(key)
+    try:
+        text = path.read_text(encoding="ascii")
+    except FileNotFoundError:
+        return None
+    except (OSError, ValueError) as exc:
+        log.warning("ignoring unreadable model cache entry %s (%s); rebuilding", path, exc)
+        return None
+    try:
+        header, payload = text.split("\n", 1)
+        magic, schema, digest = header.split(" ")
+        if magic != _MAGIC or schema != str(SCHEMA):
+            raise ValueError(f"unexpected header {header[:80]!r}")
+        if hashlib.sha256(payload.encode("ascii")).hexdigest() != digest:
+            raise ValueError("checksum mismatch (truncated or damaged)")
+        stream = ca.StringDeserializer(payload)
+        stored_key, names, functions = stream.unpack(), stream.unpack(), stream.unpack()
+        if stored_key != key or len(names) != len(functions):
+            raise ValueError("entry does not match its key")
+        return dict(zip(names, functions, strict=True))
+    except Exception as exc:  # noqa: BLE001 - any damage means a rebuild, never a crash
+        log.warning("ignoring damaged model cache entry %s (%s); rebuilding", path, exc)
+        return None
+
+
+def write_functions(key: str, functions: dict[str, ca.Function]) -> Path | None:
+    """Store ``functions`` under ``key`` atomically; the path, or None if writing failed."""
+    path = _entry(key)
+    try:
+        stream = ca.StringSerializer()
+        stream.pack(key)
+        stream.pack(list(functions))
+        stream.pack(list(functions.values()))
+        payload = stream.encode()
+        digest = hashlib.sha256(payload.encode("ascii")).hexdigest()
+        path.parent.mkdir(parents=True, exist_ok=True)
+        return atomic_write_text(path, f"{_MAGIC} {SCHEMA} {digest}\n{payload}")
+    except Exception as exc:  # noqa: BLE001 - a cache that cannot be written is only slower
+        log.warning("could not write the model cache entry %s (%s)", path, exc)
+        return None

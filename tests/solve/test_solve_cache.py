@@ -1,0 +1,169 @@
+"""The on-disk model cache: a solver built from cached functions is the same solver, and a
+damaged entry is rebuilt (walk3d.io.model_cache)."""
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from walk3d.io import model_cache
+from walk3d.problem import nlp
+from walk3d.problem.settings import PredictionSettings, body_for
+from walk3d.solve import ipopt
+
+SETTINGS = PredictionSettings(nodes=6, max_iter=3, balance_max_iter=3)
+
+
+@pytest.fixture
+def cache_dir(tmp_path, monkeypatch):
+    monkeypatch.setenv(model_cache.ENV_DIR, str(tmp_path))
+    monkeypatch.delenv(model_cache.ENV_SWITCH, raising=False)
+    return tmp_path
+
+
+def _key(settings: PredictionSettings) -> str:
+    exclude = set(ipopt.RUNTIME_FIELDS)
+    return model_cache.model_key(settings.model_dump(exclude=exclude), body_for(settings))
+
+
+def _small_functions() -> dict[str, ca.Function]:
+    x = ca.SX.sym("x", 3)
+    return {"f": ca.Function("f", [x], [ca.sin(x) * 2.5]), "g": ca.Function("g", [x], [x.T @ x])}
+
+
+def _run(fn: ca.Function, z0: np.ndarray, b) -> np.ndarray:
+    sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
+    assert fn.stats()["iter_count"] == 3
+    return np.array(sol["x"]).ravel()
+
+
+def test_solver_from_cache_equals_a_fresh_one(cache_dir):
+    fresh = ipopt._build.__wrapped__(SETTINGS, "ipopt", True)  # empty cache: built and stored
+    assert not fresh.from_cache and len(list(cache_dir.glob("model-*.casadi"))) == 1
+    cached = ipopt._build.__wrapped__(SETTINGS, "ipopt", True)
+    assert cached.from_cache
+    z0 = ipopt.initial_guess(fresh, 0)
+    np.testing.assert_array_equal(z0, ipopt.initial_guess(cached, 0))
+    # the full NLP's values and derivatives (the custom grad_f, jac_g, hess_lag) at one point
+    z = ipopt.full_stage_start(fresh, z0)
+    lam = np.random.default_rng(1).normal(size=fresh.bounds.lbg.size)
+    for name, args in [("nlp_f", [z, []]), ("nlp_g", [z, []]), ("nlp_jac_g", [z, []]),
+                       ("nlp_grad_f", [z, []]), ("nlp_hess_l", [z, [], 0.7, lam])]:  # fmt: skip
+        a = fresh.full.get_function(name)(*args)
+        b = cached.full.get_function(name)(*args)
+        for u, v in zip(a if isinstance(a, tuple) else [a], b if isinstance(b, tuple) else [b],
+                        strict=True):  # fmt: skip
+            assert u.sparsity() == v.sparsity(), name
+            np.testing.assert_array_equal(np.array(u.nonzeros()), np.array(v.nonzeros()), name)
+    # a few IPOPT iterations take the same steps
+    for stage, b in [("balance", fresh.bounds_balance), ("posture", fresh.bounds_posture)]:
+        x_fresh = _run(getattr(fresh, stage), z0, b)
+        np.testing.assert_array_equal(x_fresh, _run(getattr(cached, stage), z0, b), stage)
+    zf = ipopt.full_stage_start(fresh, z0)
+    np.testing.assert_array_equal(_run(fresh.full, zf, fresh.bounds),
+                                  _run(cached.full, zf, cached.bounds))  # fmt: skip
+
+
+def test_a_damaged_entry_is_rebuilt_and_rewritten(cache_dir, caplog, recorded):
+    body = body_for(SETTINGS)
+    model_cache.write_functions(_key(SETTINGS), recorded[0])
+    _, hit = ipopt._model_functions(body, SETTINGS, True)
+    assert hit
+    (entry,) = cache_dir.glob("model-*.casadi")
+    text = entry.read_text()
+    entry.write_text(text[: len(text) // 2] + "x" + text[len(text) // 2 + 1 :])
+    functions, hit = ipopt._model_functions(body, SETTINGS, True)
+    assert not hit and "damaged" in caplog.text
+    assert set(functions) == set(model_cache.read_functions(_key(SETTINGS)))  # rewritten
+
+
+@pytest.mark.parametrize(
+    "damage",
+    [
+        lambda t: t[: len(t) // 3],  # truncated
+        lambda t: "garbage\n" + t,  # wrong header
+        lambda t: t.replace("\n", " 1\n", 1),  # header with an extra field
+        lambda t: t.split("\n", 1)[0] + "\nabcdefgh",  # payload that does not match the checksum
+    ],
+)
+def test_damaged_entries_read_as_misses(cache_dir, damage):
+    key = "0123456789abcdef"
+    path = model_cache.write_functions(key, _small_functions())
+    assert path is not None and set(model_cache.read_functions(key)) == {"f", "g"}
+    path.write_text(damage(path.read_text()))
+    assert model_cache.read_functions(key) is None
+
+
+def test_unreadable_payload_with_a_valid_checksum_reads_as_a_miss(cache_dir):
+    key = "fedcba9876543210"
+    path = model_cache.write_functions(key, _small_functions())
+    other = model_cache.write_functions("0" * 16, _small_functions())
+    path.write_text(other.read_text())  # intact, but stored under another key
+    assert model_cache.read_functions(key) is None
+    path.write_bytes(b"\xff\xfe binary")
+    assert model_cache.read_functions(key) is None
+
+
+def test_cached_functions_evaluate_like_the_originals(cache_dir):
+    fns = _small_functions()
+    model_cache.write_functions("k", fns)
+    loaded = model_cache.read_functions("k")
+    x = np.array([0.1, -0.2, 0.3])
+    for name, fn in fns.items():
+        np.testing.assert_array_equal(np.array(fn(x)), np.array(loaded[name](x)))
+
+
+def test_a_cache_that_cannot_be_written_is_skipped(tmp_path, monkeypatch):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv(model_cache.ENV_DIR, str(blocker / "cache"))
+    assert model_cache.write_functions("k", _small_functions()) is None
+    assert model_cache.read_functions("k") is None
+
+
+def test_switch_and_location(monkeypatch, tmp_path):
+    monkeypatch.setenv(model_cache.ENV_DIR, str(tmp_path))
+    assert model_cache.cache_dir() == tmp_path
+    monkeypatch.delenv(model_cache.ENV_DIR)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    if model_cache.sys.platform.startswith("linux"):
+        assert model_cache.cache_dir() == tmp_path / "xdg" / "walk3d"
+    for value, on in [("0", False), ("off", False), ("False", False), ("1", True), ("", True)]:
+        monkeypatch.setenv(model_cache.ENV_SWITCH, value)
+        assert model_cache.cache_enabled() is on
+        assert model_cache.cache_enabled(True) is True
+    monkeypatch.delenv(model_cache.ENV_SWITCH)
+    assert model_cache.cache_enabled()
+
+
+def test_key_follows_the_model_not_the_solver_options():
+    base = _key(SETTINGS)
+    assert base == _key(SETTINGS.model_copy(update={"nodes": 20, "max_iter": 50, "tol": 1e-8}))
+    for change in [{"mass": 70.0}, {"criterion": "en"}, {"period": 1.1},
+                   {"transition_ratios": (0.2, 0.05, 0.1, 0.3)}]:  # fmt: skip
+        assert _key(SETTINGS.model_copy(update=change)) != base, change
+
+
+class _Recorder:
+    """Settings that record which fields are read."""
+
+    def __init__(self, settings: PredictionSettings):
+        self._settings, self.read = settings, set()
+
+    def __getattr__(self, name: str):
+        self.read.add(name)
+        return getattr(self._settings, name)
+
+
+@pytest.fixture(scope="module")
+def recorded() -> tuple[dict[str, ca.Function], set[str]]:
+    """The model functions of SETTINGS, and the settings fields their construction read."""
+    rec = _Recorder(SETTINGS)
+    return nlp.model_functions(body_for(SETTINGS), rec), rec.read
+
+
+def test_model_functions_do_not_read_the_fields_left_out_of_the_key(recorded):
+    fns, read = recorded
+    assert set(fns) == {"loop"} | {nlp._node_name(d, b, h) for d, b in nlp.STAGES.values()
+                                   for h in (True, False)}  # fmt: skip
+    assert read and not read & ipopt.RUNTIME_FIELDS, read & ipopt.RUNTIME_FIELDS
+    assert read <= set(PredictionSettings.model_fields) | {"stride_length"}
