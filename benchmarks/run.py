@@ -27,18 +27,24 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--first-seed", type=int, default=0, help="seeds first-seed .. +K-1")
     ap.add_argument("--criterion", choices=("tor", "en"), default="tor")
     ap.add_argument("--nodes", type=int, default=20)
-    ap.add_argument("--threads", type=int, default=1, help="threads per solve (CasADi map)")
+    ap.add_argument(
+        "--threads",
+        type=int,
+        default=None,
+        help="threads per solve (CasADi map; default: every core, as walk3d predict)",
+    )
     ap.add_argument("--baseline", action="store_true", help="also run SLSQP on seed 0")
     ap.add_argument("--baseline-time-limit", type=float, default=900.0)
     ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "solve.json"))
     args = ap.parse_args(argv)
 
-    from walk3d.problem.settings import PredictionSettings, body_for
+    from walk3d.problem.settings import PredictionSettings, available_cores, body_for
     from walk3d.results.evaluate import evaluate_cycle
     from walk3d.results.gait_checks import walking_checks
     from walk3d.solve import ipopt
 
-    settings = PredictionSettings(criterion=args.criterion, nodes=args.nodes, threads=args.threads)
+    threads = args.threads or min(available_cores(), 64)
+    settings = PredictionSettings(criterion=args.criterion, nodes=args.nodes, threads=threads)
     t0 = time.perf_counter()
     from_cache = ipopt.build_solver(settings).from_cache
     build = time.perf_counter() - t0

@@ -37,7 +37,7 @@ from rich.progress import (
 )
 
 from walk3d.campaign import ranking, store, task
-from walk3d.problem.settings import PredictionSettings
+from walk3d.problem.settings import PredictionSettings, available_cores
 
 if TYPE_CHECKING:
     from distributed import Client
@@ -92,7 +92,7 @@ def _client(workers: int | None, scheduler: str | None, pending: int) -> Iterato
         return
     for key, value in WORKER_ENV.items():
         os.environ[key] = value  # inherited by the spawned worker processes
-    n = max(1, min(workers or os.cpu_count() or 1, pending))
+    n = max(1, min(workers or available_cores(), pending))
     # a task that kills its worker is retried once, then recorded as an error
     with (
         dask.config.set({"distributed.scheduler.allowed-failures": 1}),

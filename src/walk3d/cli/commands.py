@@ -137,8 +137,9 @@ def predict(
     solver: SolverName = "ipopt",
     nodes: Nodes = 20,
     threads: Annotated[
-        int, typer.Option("--threads", help="Threads for one solve (node evaluations).")
-    ] = 1,
+        int | None,
+        typer.Option("--threads", help="Threads for one solve (default: every core)."),
+    ] = None,
     from_trial: FromTrial = None,
     grf: TrialGrf = None,
     calibration: CalibrationFile = None,
@@ -150,6 +151,10 @@ def predict(
     speed, period, double_support = _descriptors_from_trial(
         ctx, from_trial, grf, speed=speed, period=period, double_support=double_support
     )
+    if threads is None:
+        from walk3d.problem.settings import available_cores
+
+        threads = min(available_cores(), 64)
     settings = settings_from_options(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads,

@@ -65,7 +65,9 @@ class PredictionSettings(BaseModel):
     """Narrow shoulder and elbow ranges to those of walking (walk3d.problem.ranges)."""
     threads: int = 1
     """Threads evaluating the node functions and their derivatives (CasADi ``map``). Campaigns
-    already use one process per core; a single prediction may use more."""
+    already use one process per core; ``walk3d predict`` uses every core
+    (:func:`available_cores`). Same iterates for any count; seed 0 of the defaults took 100.4 s
+    with 1 thread and 77.9 s with 2 on this 2-core machine (231 iterations each)."""
     loop_checks: int = 0
     """Extra closed-loop checks between consecutive double-support nodes (position level).
     Off by default: with one check per interval the posture stage hit its iteration limit
@@ -139,6 +141,16 @@ class PredictionSettings(BaseModel):
     @property
     def stride_length(self) -> float:
         return self.speed * self.period
+
+
+def available_cores() -> int:
+    """CPU cores this process may run on (its affinity mask where the OS has one)."""
+    import os
+
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # macOS, Windows
+        return max(1, os.cpu_count() or 1)
 
 
 def body_for(settings: PredictionSettings):
