@@ -10,6 +10,7 @@ from walk3d.problem import layout, nlp
 from walk3d.problem.bounds import bounds
 from walk3d.problem.criteria import node_terms
 from walk3d.problem.gait import dof_moment_terms, strength_weights
+from walk3d.problem.schedule import loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings
 
 
@@ -76,10 +77,10 @@ def test_bounds_and_variables_have_matching_sizes(setup):
     assert np.all(np.isinf(g_node[sch.swing, rows]))
     # the loop is also checked between consecutive double-support nodes and at toe-off
     # (8 nodes: the last double-support node is well before it), within a tolerance
-    t_loop = nlp.loop_check_times(s, sch)
+    t_loop = loop_check_times(s, sch)
     assert t_loop.size == s.loop_checks * (sch.double_support.sum() - 1) + 1
     assert t_loop[-1] == pytest.approx(sch.times[0] + s.double_support)
-    assert b.lbg.size - (n_lift + sch.n * nlp.N_G + 6) - len(nlp.range_rows(body, s)[1]) == (
+    assert b.lbg.size - (n_lift + sch.n * nlp.N_G + 6) - len(range_rows(body, s)[1]) == (
         6 * t_loop.size
     )
     assert np.all(b.ubg[-6:] == s.loop_check_tolerance) and np.all(b.lbg[-6:] < 0)

@@ -12,17 +12,9 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.problem import layout
-from walk3d.problem.nlp import (
-    BALL_NORM_MAX,
-    G_ROWS,
-    N_G,
-    N_T,
-    N_Y,
-    Schedule,
-    loop_check_times,
-    range_rows,
-)
+from walk3d.problem.nlp import BALL_NORM_MAX, G_ROWS, N_G, N_T, N_Y
 from walk3d.problem.ranges import joint_ranges
+from walk3d.problem.schedule import Schedule, loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings
 
 

@@ -22,21 +22,18 @@ only at the nodes where they apply (double support, swing).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import casadi as ca
 import numpy as np
 
 from walk3d import G
 from walk3d.body.model import BodyModel
-from walk3d.contact.phases import GaitPhases
 from walk3d.contact.support import foot_points, support_rows
 from walk3d.contact.transition import apply_ratios
 from walk3d.problem import layout
 from walk3d.problem.criteria import POWER_SCALE_W, node_terms
 from walk3d.problem.derivatives import NlpPieces, derivative_functions
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
-from walk3d.problem.ranges import joint_ranges
+from walk3d.problem.schedule import loop_check_times, range_rows, schedule
 from walk3d.problem.settings import PredictionSettings, ratios_for
 
 N_Y = layout.N_Y
@@ -61,65 +58,6 @@ N_G = 101
 N_T = layout.N_T
 BALL_NORM_MAX = 0.97
 EN_SCALE = 100.0  # C_en is divided by this in the solver's objective (J -> O(1))
-
-
-@dataclass(frozen=True)
-class Schedule:
-    """Node times and their phase in the half cycle with the right foot as root."""
-
-    times: np.ndarray
-    double_support: np.ndarray
-    swing: np.ndarray
-    decay: np.ndarray
-    anchor_other_x: np.ndarray
-    step: float
-
-    @property
-    def n(self) -> int:
-        return len(self.times)
-
-
-def schedule(settings: PredictionSettings) -> Schedule:
-    """Nodes ``t_k = t_hs_r + k T/(2N)``, ``k = 0..N-1``: the half cycle with the right root.
-
-    No node sits at the left heel strike: by symmetry its closed loop is the same condition as
-    the one at node 0 (the right heel strike seen from the other foot), and stating it twice
-    makes the constraints linearly dependent.
-    """
-    ph = GaitPhases(settings.period, settings.double_support)
-    n = settings.nodes
-    h = settings.period / (2 * n)
-    tau = np.arange(n) * h
-    ds = tau <= settings.double_support + 1e-9
-    half = settings.stride_length / 2
-    return Schedule(
-        times=ph.heel_strike_r + tau,
-        double_support=ds,
-        swing=~ds,
-        decay=np.where(ds, ph.trailing_decay(ph.heel_strike_r + tau), 0.0),
-        anchor_other_x=np.where(ds, -half, half),
-        step=h,
-    )
-
-
-def range_rows(body: BodyModel, settings: PredictionSettings) -> tuple[np.ndarray, ...]:
-    """Joint-range rows on a grid ``range_oversampling`` × finer than the nodes: ``(R, lo, hi)``.
-
-    Joint coordinates are linear in the coefficients, so these rows cost nothing to evaluate or
-    differentiate, and they keep the series inside the anatomical ranges *between* nodes too
-    (with 12 nodes and ranges at the nodes only, the optimizer found gaits swinging far outside
-    them in between). Off by default: with 4× oversampling the kinematic stage reported local
-    infeasibility from the standing start (docs/solver.md).
-    """
-    ph = GaitPhases(settings.period, settings.double_support)
-    m = settings.range_oversampling * settings.nodes
-    t = ph.heel_strike_r + np.arange(m) * settings.period / (2 * m)
-    a0, _, _ = layout.coordinate_maps(t, settings.period)
-    ranges = joint_ranges(body, settings)
-    R = a0[:, :24, :].reshape(-1, layout.N_X)
-    lo = np.tile(np.sin(ranges[:, 0] / 2), m)
-    hi = np.tile(np.sin(ranges[:, 1] / 2), m)
-    return R, lo, hi
 
 
 def _unpack_coords(y, omega: float) -> list[tuple]:
@@ -292,21 +230,6 @@ def loop_function(body: BodyModel, settings: PredictionSettings) -> ca.Function:
     st = state_at(body, y, [zero] * 6, hw, 0.0, ax, 1.0, dynamics=False, balance=False)
     rows = list(st.loop_position) + list(st.loop_orientation)
     return ca.Function("walk3d_loop", [c, hw, ax], [ca.vertcat(*rows)])
-
-
-def loop_check_times(settings: PredictionSettings, sch: Schedule) -> np.ndarray:
-    """Extra loop-closure instants: ``loop_checks`` evenly between consecutive double-support
-    nodes, and the trailing foot's toe-off (``loop_check_toe_off``) when no node sits there.
-    The loop holds exactly at the nodes; between nodes it drifted by < 0.3 mm, but in the gap
-    between the last double-support node and toe-off by up to 10 mm."""
-    ds = np.flatnonzero(sch.double_support)
-    m = settings.loop_checks
-    frac = np.arange(1, m + 1) / (m + 1)
-    times = [sch.times[k] + f * sch.step for k in ds[:-1] for f in frac]
-    toe_off = sch.times[0] + settings.double_support
-    if settings.loop_check_toe_off and toe_off - sch.times[ds[-1]] > 1e-6 * settings.period:
-        times.append(toe_off)
-    return np.array(times)
 
 
 STAGES = {"posture": (False, False), "balance": (False, True), "full": (True, True)}

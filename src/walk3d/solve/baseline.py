@@ -14,6 +14,7 @@ import numpy as np
 from scipy.optimize import minimize
 
 from walk3d.problem import layout, nlp
+from walk3d.problem.schedule import loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.ipopt import SolveOutcome, build_solver, initial_guess
 
@@ -35,7 +36,7 @@ class _Dense:
         b = sv.bounds if dynamics else sv.bounds_balance
         n_lift = self.n * nlp.N_Y
         n_node = self.n * nlp.N_G
-        self.range_mat = nlp.range_rows(sv.body, settings)[0]
+        self.range_mat = range_rows(sv.body, settings)[0]
         # node rows, then the linear joint-range rows (the 6 heel-strike rows are equalities)
         self.lbg = np.r_[b.lbg[n_lift : n_lift + n_node], b.lbg[n_lift + n_node + 6 :]]
         self.ubg = np.r_[b.ubg[n_lift : n_lift + n_node], b.ubg[n_lift + n_node + 6 :]]
@@ -44,7 +45,7 @@ class _Dense:
         self.lby = b.lbz[layout.N_X : layout.N_X + n_lift]
         self.uby = b.ubz[layout.N_X : layout.N_X + n_lift]
         self.lift = sv.lift.reshape(-1, layout.N_X)
-        t_loop = nlp.loop_check_times(settings, sv.schedule)
+        t_loop = loop_check_times(settings, sv.schedule)
         self.loop_map = layout.coordinate_maps(t_loop, settings.period)[0]  # (m, 26, N_X)
         self.loop_fn = nlp.loop_function(sv.body, settings).map(max(t_loop.size, 1))
         self.anchor = np.full((1, t_loop.size), -settings.stride_length / 2)

@@ -29,6 +29,7 @@ from walk3d.body.model import BodyModel
 from walk3d.io import model_cache
 from walk3d.problem import layout, nlp
 from walk3d.problem.bounds import Bounds, bounds
+from walk3d.problem.schedule import Schedule
 from walk3d.problem.settings import PredictionSettings, body_for
 
 IPOPT_SUCCESS = {"Solve_Succeeded", "Solved_To_Acceptable_Level"}
@@ -52,7 +53,7 @@ class Solver:
     bounds_balance: Bounds
     bounds_posture: Bounds
     lift: np.ndarray
-    schedule: nlp.Schedule
+    schedule: Schedule
     build_time_s: float
     from_cache: bool = False
     """Whether the model's SX functions were read from the on-disk cache."""
