@@ -86,10 +86,16 @@ def main(argv: list[str] | None = None) -> int:
                               "converged": base.converged, "wall_time_s": base.wall_time_s,
                               "stages": base.stages}  # fmt: skip
         ratio = base.wall_time_s / ours
-        bound = "" if base.converged else " (baseline did not converge: a lower bound)"
+        if base.converged:
+            note = ""
+        elif base.status == "time limit reached":
+            note = " (baseline stopped at its time limit unconverged: a lower bound)"
+        else:
+            ratio, note = None, " (baseline failed: no ratio)"
         report["speedup_vs_baseline_first_seed"] = ratio
+        shown = "-" if ratio is None else f"{ratio:.1f}x"
         print(f"baseline SLSQP-FD seed {args.first_seed}: {base.status}, "
-              f"{base.wall_time_s:.0f} s; speed-up {ratio:.1f}x{bound}", flush=True)  # fmt: skip
+              f"{base.wall_time_s:.0f} s; speed-up {shown}{note}", flush=True)  # fmt: skip
 
     body = body_for(settings)
     for seed in range(args.first_seed, args.first_seed + args.starts):

@@ -5,7 +5,7 @@ import numpy as np
 
 from walk3d.problem import layout, nlp
 from walk3d.problem.settings import PredictionSettings
-from walk3d.solve.baseline import _Dense
+from walk3d.solve.baseline import _Dense, slsqp_solve
 from walk3d.solve.ipopt import initial_guess
 
 
@@ -36,3 +36,10 @@ def test_dense_rows_equal_the_lifted_nlp_rows():
     bounded = np.isfinite(dense.lbg) | np.isfinite(dense.ubg)  # (unbounded rows may differ)
     assert bounded[-6:].all()  # the toe-off loop check
     np.testing.assert_allclose(g_dense[bounded], expected[bounded], rtol=1e-9, atol=1e-12)
+
+
+def test_baseline_out_of_time_is_labelled_unconverged():
+    out = slsqp_solve(PredictionSettings(nodes=6), 0, time_limit_s=0.5)
+    assert not out.converged
+    assert out.status == "time limit reached"
+    assert out.stages[0]["stage"] == "kinematic" and out.solver == "slsqp-fd"
