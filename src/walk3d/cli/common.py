@@ -39,6 +39,12 @@ FromTrial = Annotated[
     ),
 ]
 TrialGrf = Annotated[str | None, typer.Option("--grf", help="GRF .mot of the --from-trial trial.")]
+PlateThreshold = Annotated[
+    float, typer.Option("--threshold", help="Force-plate contact threshold, N.")
+]
+BeltSpeed = Annotated[
+    float | None, typer.Option("--speed", help="Belt speed for treadmill trials, m/s.")
+]
 CalibrationFile = Annotated[
     str | None,
     typer.Option("--calibration", help="Calibration JSON (walk3d calibrate): roll-over, ratios."),

@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from walk3d.cli.common import Height, Mass, Sex, app, console, fail
+from walk3d.cli.common import BeltSpeed, Height, Mass, PlateThreshold, Sex, app, console, fail
 
 
 @app.command()
@@ -23,12 +23,8 @@ def validate(
     out: Annotated[
         str | None, typer.Option("--out", help="Output folder (default PRED_DIR/validation).")
     ] = None,
-    threshold: Annotated[
-        float, typer.Option("--threshold", help="Force-plate contact threshold, N.")
-    ] = 20.0,
-    speed: Annotated[
-        float | None, typer.Option("--speed", help="Belt speed for treadmill trials, m/s.")
-    ] = None,
+    threshold: PlateThreshold = 20.0,
+    speed: BeltSpeed = None,
     forward: Annotated[
         str | None,
         typer.Option("--forward", help="Lab axis the walker faces in C3D files (+x, -y...)."),
@@ -80,12 +76,8 @@ def calibrate(
     mass: Mass = 68.8,
     height: Height = 1.77,
     sex: Sex = "male",
-    threshold: Annotated[
-        float, typer.Option("--threshold", help="Force-plate contact threshold, N.")
-    ] = 20.0,
-    speed: Annotated[
-        float | None, typer.Option("--speed", help="Belt speed for treadmill trials, m/s.")
-    ] = None,
+    threshold: PlateThreshold = 20.0,
+    speed: BeltSpeed = None,
 ) -> None:
     """Fit the stance-foot roll-over and the double-support transition ratios to a trial and
     write them to a calibration file, with the figures OUT_rollover.png and
