@@ -151,8 +151,9 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     cols = [node_columns(n, k) for k in range(n)]
     v0 = z[cols[0].tolist()]
     vr = ca.reshape(z[np.concatenate(cols[1:]).tolist()], N_V, n - 1)
-    j0, d0, h0 = _node_derivatives(pc.node0, pc.crit)
     jn, dn, hn = _node_derivatives(pc.node, pc.crit)
+    same = pc.node0 is pc.node
+    j0, d0, h0 = (jn, dn, hn) if same else _node_derivatives(pc.node0, pc.crit)
     pr, p0 = ca.DM(pc.params[:, 1:]), ca.DM(pc.params[:, 0])
 
     def mapped(fn: ca.Function) -> ca.Function:

@@ -253,6 +253,14 @@ def model_functions(body: BodyModel, settings: PredictionSettings) -> dict[str, 
     return fns
 
 
+def lifting_maps(settings: PredictionSettings, sch) -> np.ndarray:
+    """``(n_nodes, 78, N_X)`` maps from the coefficients to each node's ``Y_k`` (values, rates
+    / ω, accelerations / ω²)."""
+    a0, a1, a2 = layout.coordinate_maps(sch.times, settings.period)
+    omega = 2 * np.pi / settings.period
+    return np.concatenate([a0, a1 / omega, a2 / omega**2], axis=1)
+
+
 def build_nlp(
     body: BodyModel,
     settings: PredictionSettings,
@@ -275,11 +283,12 @@ def build_nlp(
         fn = fns.get(_node_name(dynamics, balance, with_hs))
         return fn or node_function(body, settings, dynamics, with_hs=with_hs, balance=balance)
 
-    node0, node = node_fn(True), node_fn(False)
+    # without dynamics the heel-strike rows are zeros anyway: one node function (and one set of
+    # derivatives to build) serves every node
+    node = node_fn(False)
+    node0 = node_fn(True) if dynamics else node
     n_nodes = sch.n
-    a0, a1, a2 = layout.coordinate_maps(sch.times, settings.period)
-    omega = 2 * np.pi / settings.period
-    lift = np.concatenate([a0, a1 / omega, a2 / omega**2], axis=1)  # (n_nodes, 78, N_X)
+    lift = lifting_maps(settings, sch)
     x = ca.MX.sym("x", layout.N_X)
     ys = ca.MX.sym("Y", N_Y, n_nodes)
     w0 = ca.MX.sym("W0", 6)

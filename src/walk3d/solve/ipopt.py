@@ -17,6 +17,7 @@ docs/solver.md has the measurements.
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -29,34 +30,121 @@ from walk3d.body.model import BodyModel
 from walk3d.io import model_cache
 from walk3d.problem import layout, nlp
 from walk3d.problem.bounds import Bounds, bounds
-from walk3d.problem.schedule import Schedule
+from walk3d.problem.schedule import Schedule, schedule
 from walk3d.problem.settings import PredictionSettings, body_for
 
 IPOPT_SUCCESS = {"Solve_Succeeded", "Solved_To_Acceptable_Level"}
 """Return statuses counted as converged (IPOPT's, and sqpmethod's ``Solve_Succeeded``)."""
 
 
-@dataclass(frozen=True)
+STAGE_PROBLEMS = {"posture": "posture", "balance": "balance", "balance_direct": "balance",
+                  "full": "full"}  # fmt: skip
+"""Solver stages and the NLP (:data:`walk3d.problem.nlp.STAGES`) each solves; ``balance_direct``
+is the balance NLP straight from standing, limited to ``balance_max_iter`` iterations."""
+
+
+_NLP_KEYS = tuple(f"nlp:{kind}" for kind in nlp.STAGES)
+
+
+@dataclass(frozen=True, eq=False)
 class Solver:
-    """A built NLP: the CasADi solvers of both stages with their bounds and lifting maps."""
+    """The NLP of one settings: bounds and lifting maps at once, stage solvers on first use.
+
+    Building a stage's exact derivatives (per-node Jacobian and Hessian, about 3-4 s per stage
+    at 20 nodes) is most of a build, so a stage is built when it is first asked for
+    (:meth:`stage`, or the attributes ``posture``, ``balance``, ``balance_direct``, ``full``),
+    and :meth:`prepare` builds stages in a background thread while another stage solves
+    (CasADi releases the GIL). The posture stage, a fallback, is then never built unless used.
+    """
 
     settings: PredictionSettings
     body: BodyModel
-    posture: ca.Function
-    balance: ca.Function
-    balance_direct: ca.Function
-    """The balance stage straight from standing, with ``balance_max_iter`` iterations."""
-    full: ca.Function
-    constraints: ca.Function
-    """``g(z)`` of the full stage (used to start it consistently)."""
+    method: str
+    functions: dict[str, ca.Function]
+    """The model's SX functions (:func:`walk3d.problem.nlp.model_functions`)."""
     bounds: Bounds
     bounds_balance: Bounds
     bounds_posture: Bounds
     lift: np.ndarray
     schedule: Schedule
     build_time_s: float
+    """Time to set up the solver without its stages (model functions, bounds)."""
     from_cache: bool = False
     """Whether the model's SX functions were read from the on-disk cache."""
+    stage_build_s: dict[str, float] = field(default_factory=dict, repr=False)
+    """Seconds spent building each NLP and stage solver so far, by name."""
+    _built: dict[str, object] = field(default_factory=dict, repr=False)
+    _locks: dict[str, threading.Lock] = field(
+        default_factory=lambda: {k: threading.Lock() for k in (*STAGE_PROBLEMS, *_NLP_KEYS)},
+        repr=False,
+    )
+
+    def _problem(self, kind: str) -> dict:
+        """The NLP dict of ``kind`` (posture, balance, full) with its derivative functions."""
+        key = f"nlp:{kind}"
+        with self._locks[key]:
+            if key not in self._built:
+                t0 = time.perf_counter()
+                dynamics, balance = nlp.STAGES[kind]
+                prob, _, _ = nlp.build_nlp(self.body, self.settings, dynamics=dynamics,
+                                           balance=balance, functions=self.functions)  # fmt: skip
+                self._built[key] = prob
+                self.stage_build_s[key] = time.perf_counter() - t0
+            return self._built[key]  # type: ignore[return-value]
+
+    def stage(self, name: str) -> ca.Function:
+        """The solver of stage ``name`` (:data:`STAGE_PROBLEMS`), built on first use."""
+        with self._locks[name]:
+            if name not in self._built:
+                prob = self._problem(STAGE_PROBLEMS[name])
+                t0 = time.perf_counter()
+                if self.method == "ipopt":
+                    opts = _ipopt_options(self.settings)
+                    if name == "balance_direct":
+                        opts["ipopt.max_iter"] = self.settings.balance_max_iter
+                    plugin = "ipopt"
+                else:
+                    opts, plugin = _sqp_options(self.settings), "sqpmethod"
+                fn = ca.nlpsol(f"walk3d_{name}", plugin, *_with_derivatives(prob, opts))
+                self._built[name] = fn
+                self.stage_build_s[name] = time.perf_counter() - t0
+            return self._built[name]  # type: ignore[return-value]
+
+    def prepare(self, *names: str) -> threading.Thread:
+        """Build the stages ``names`` in a background thread (started and returned)."""
+        unknown = set(names) - set(STAGE_PROBLEMS)
+        if unknown:
+            raise ValueError(f"unknown stages {sorted(unknown)}; known: {list(STAGE_PROBLEMS)}")
+
+        def work() -> None:
+            for name in names:
+                self.stage(name)
+
+        thread = threading.Thread(target=work, name="walk3d-build", daemon=True)
+        thread.start()
+        return thread
+
+    @property
+    def posture(self) -> ca.Function:
+        return self.stage("posture")
+
+    @property
+    def balance(self) -> ca.Function:
+        return self.stage("balance")
+
+    @property
+    def balance_direct(self) -> ca.Function:
+        return self.stage("balance_direct")
+
+    @property
+    def full(self) -> ca.Function:
+        return self.stage("full")
+
+    @property
+    def constraints(self) -> ca.Function:
+        """``g(z)`` of the full stage (used to start it consistently)."""
+        prob = self._problem("full")
+        return ca.Function("walk3d_g", [prob["x"]], [prob["g"]])
 
 
 @dataclass
@@ -122,18 +210,9 @@ def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool 
     t0 = time.perf_counter()
     body = body_for(settings)
     fns, hit = _model_functions(body, settings, use_cache)
-    post_prob, _, _ = nlp.build_nlp(body, settings, dynamics=False, balance=False, functions=fns)
-    kin_prob, sch, lift = nlp.build_nlp(body, settings, dynamics=False, functions=fns)
-    full_prob, _, _ = nlp.build_nlp(body, settings, dynamics=True, functions=fns)
-    plugin = "ipopt" if method == "ipopt" else "sqpmethod"
-    opts = _ipopt_options(settings) if method == "ipopt" else _sqp_options(settings)
-    g_full = ca.Function("walk3d_g", [full_prob["x"]], [full_prob["g"]])
-    post = ca.nlpsol("walk3d_posture", plugin, *_with_derivatives(post_prob, opts))
-    bal = ca.nlpsol("walk3d_balance", plugin, *_with_derivatives(kin_prob, opts))
-    direct = opts | ({"ipopt.max_iter": settings.balance_max_iter} if method == "ipopt" else {})
-    bal_direct = ca.nlpsol("walk3d_balance_direct", plugin, *_with_derivatives(kin_prob, direct))
-    full = ca.nlpsol("walk3d_full", plugin, *_with_derivatives(full_prob, opts))
-    return Solver(settings, body, post, bal, bal_direct, full, g_full, bounds(body, settings, sch),
+    sch = schedule(settings)
+    lift = nlp.lifting_maps(settings, sch)
+    return Solver(settings, body, method, fns, bounds(body, settings, sch),
                   bounds(body, settings, sch, dynamics=False),
                   bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
                   time.perf_counter() - t0, hit)  # fmt: skip
@@ -259,10 +338,11 @@ def solve(
     stages = []
     z_stand, info1 = z, None
     if settings.posture_stage != "first":
-        note("stage 1/2: balance (walking posture, total reaction under the feet)")
         limited = settings.posture_stage == "fallback"
-        fn = solver.balance_direct if limited else solver.balance
         name = "balance_direct" if limited else "balance"
+        fn = solver.stage(name)
+        solver.prepare("full")  # built while the balance stage solves
+        note("stage 1/2: balance (walking posture, total reaction under the feet)")
         z, info1 = _run(fn, solver, z_stand, name, solver.bounds_balance)
         stages.append(info1)
     if settings.posture_stage != "off" and (info1 is None or info1["status"] not in IPOPT_SUCCESS):

@@ -1,0 +1,35 @@
+"""Stage solvers are built on first use, once, and can be built in the background."""
+
+import numpy as np
+import pytest
+
+from walk3d.problem.settings import PredictionSettings
+from walk3d.solve import ipopt
+
+SETTINGS = PredictionSettings(nodes=6, max_iter=3, balance_max_iter=3)
+
+
+def test_stages_are_built_once_on_first_use_or_in_the_background():
+    solver = ipopt._build.__wrapped__(SETTINGS, "ipopt", False)
+    assert solver.stage_build_s == {}  # nothing built yet
+    solver.prepare("full", "balance_direct").join()
+    assert set(solver.stage_build_s) == {"nlp:full", "full", "nlp:balance", "balance_direct"}
+    full = solver.full
+    assert full is solver.stage("full") and solver.balance_direct is solver.stage("balance_direct")
+    # balance shares the balance NLP with balance_direct; only its solver is new
+    solver.stage("balance")
+    assert "nlp:posture" not in solver.stage_build_s and "posture" not in solver.stage_build_s
+    z0 = ipopt.initial_guess(solver, 0)
+    g = np.array(solver.constraints(ipopt.full_stage_start(solver, z0))).ravel()
+    assert g.size == solver.bounds.lbg.size
+    with pytest.raises(ValueError, match="unknown stages"):
+        solver.prepare("walking")
+
+
+def test_a_solve_builds_only_the_stages_it_runs():
+    settings = SETTINGS.model_copy(update={"posture_stage": "off"})
+    ipopt._build.cache_clear()
+    outcome = ipopt.solve(settings, seed=0)
+    solver = ipopt.build_solver(settings)
+    assert [st["stage"] for st in outcome.stages] == ["balance", "full"]
+    assert set(solver.stage_build_s) == {"nlp:balance", "balance", "nlp:full", "full"}
