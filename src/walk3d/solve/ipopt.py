@@ -32,6 +32,7 @@ from walk3d.problem import layout, nlp
 from walk3d.problem.bounds import Bounds, bounds
 from walk3d.problem.schedule import Schedule, schedule
 from walk3d.problem.settings import PredictionSettings, body_for
+from walk3d.solve.progress import IterationReporter, Listener
 
 IPOPT_SUCCESS = {"Solve_Succeeded", "Solved_To_Acceptable_Level"}
 """Return statuses counted as converged (IPOPT's, and sqpmethod's ``Solve_Succeeded``)."""
@@ -73,11 +74,17 @@ class Solver:
     """Whether the model's SX functions were read from the on-disk cache."""
     stage_build_s: dict[str, float] = field(default_factory=dict, repr=False)
     """Seconds spent building each NLP and stage solver so far, by name."""
+    reporter: IterationReporter = field(init=False, repr=False)
+    """IPOPT's per-iteration callback, shared by the stage solvers (:mod:`.progress`)."""
     _built: dict[str, object] = field(default_factory=dict, repr=False)
     _locks: dict[str, threading.Lock] = field(
         default_factory=lambda: {k: threading.Lock() for k in (*STAGE_PROBLEMS, *_NLP_KEYS)},
         repr=False,
     )
+
+    def __post_init__(self) -> None:
+        n_x, n_g = self.bounds.lbz.size, self.bounds.lbg.size
+        object.__setattr__(self, "reporter", IterationReporter("walk3d_progress", n_x, n_g))
 
     def _problem(self, kind: str) -> dict:
         """The NLP dict of ``kind`` (posture, balance, full) with its derivative functions."""
@@ -105,6 +112,7 @@ class Solver:
                     plugin = "ipopt"
                 else:
                     opts, plugin = _sqp_options(self.settings), "sqpmethod"
+                opts["iteration_callback"] = self.reporter
                 fn = ca.nlpsol(f"walk3d_{name}", plugin, *_with_derivatives(prob, opts))
                 self._built[name] = fn
                 self.stage_build_s[name] = time.perf_counter() - t0
@@ -301,9 +309,17 @@ def full_stage_start(solver: Solver, z: np.ndarray) -> np.ndarray:
     return z
 
 
-def _run(fn: ca.Function, solver: Solver, z0: np.ndarray, name: str, b: Bounds):
+def _run(
+    fn: ca.Function,
+    solver: Solver,
+    z0: np.ndarray,
+    name: str,
+    b: Bounds,
+    listener: Listener | None = None,
+):
     t0 = time.perf_counter()
-    sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
+    with solver.reporter.listening(listener, b.lbg, b.ubg):
+        sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
     stats = fn.stats()
     g = np.array(sol["g"]).ravel()
     viol = float(max(np.max(b.lbg - g, initial=0.0), np.max(g - b.ubg, initial=0.0)))
@@ -328,10 +344,22 @@ def solve(
 ) -> SolveOutcome:
     """Predict one gait cycle from the standing start of ``seed``.
 
-    ``converged`` is True only when the final (full) stage reports success.
+    ``converged`` is True only when the final (full) stage reports success. ``on_stage``
+    receives progress messages: each stage as it starts, then, every IPOPT iteration, the
+    stage's message with its iteration, objective and largest constraint violation.
     """
     note = on_stage or (lambda _msg: None)
-    note("building the model")
+    current = [""]
+
+    def stage_note(msg: str) -> None:
+        current[0] = msg
+        note(msg)
+
+    def listener(it: int, f: float, viol: float) -> None:
+        note(f"{current[0]} · iteration {it}, objective {f:.4g}, infeasibility {viol:.1e}")
+
+    run_listener = listener if on_stage else None
+    stage_note("building the model")
     solver = build_solver(settings, method)
     t0 = time.perf_counter()
     z = initial_guess(solver, seed)
@@ -342,17 +370,20 @@ def solve(
         name = "balance_direct" if limited else "balance"
         fn = solver.stage(name)
         solver.prepare("full")  # built while the balance stage solves
-        note("stage 1/2: balance (walking posture, total reaction under the feet)")
-        z, info1 = _run(fn, solver, z_stand, name, solver.bounds_balance)
+        stage_note("stage 1/2: balance (walking posture, total reaction under the feet)")
+        z, info1 = _run(fn, solver, z_stand, name, solver.bounds_balance, run_listener)
         stages.append(info1)
     if settings.posture_stage != "off" and (info1 is None or info1["status"] not in IPOPT_SUCCESS):
-        note("stage 0: walking posture (geometry only), then balance")
-        z, info = _run(solver.posture, solver, z_stand, "posture", solver.bounds_posture)
+        stage_note("stage 0: walking posture (geometry only)")
+        z, info = _run(solver.posture, solver, z_stand, "posture", solver.bounds_posture,
+                       run_listener)  # fmt: skip
         stages.append(info)
-        z, info1 = _run(solver.balance, solver, z, "balance", solver.bounds_balance)
+        stage_note("stage 1/2: balance, from the walking posture")
+        z, info1 = _run(solver.balance, solver, z, "balance", solver.bounds_balance, run_listener)
         stages.append(info1)
-    note(f"stage 2/2: minimizing C_{settings.criterion}")
-    z, info2 = _run(solver.full, solver, full_stage_start(solver, z), "full", solver.bounds)
+    stage_note(f"stage 2/2: minimizing C_{settings.criterion}")
+    z, info2 = _run(solver.full, solver, full_stage_start(solver, z), "full", solver.bounds,
+                    run_listener)  # fmt: skip
     stages.append(info2)
     return SolveOutcome(
         x=z[: layout.N_X].copy(),

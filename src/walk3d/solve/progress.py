@@ -1,0 +1,69 @@
+"""Per-iteration progress from IPOPT, through CasADi's ``iteration_callback``.
+
+A stage solver is built once per settings and shared by every solve in a process, so the
+callback object is too; a solve points it at its own listener for as long as it runs
+(:meth:`IterationReporter.listening`). Without a listener the callback does nothing and
+returns 0 (go on). IPOPT's iterates do not depend on it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Callable, Iterator
+
+import casadi as ca
+import numpy as np
+
+Listener = Callable[[int, float, float], None]
+"""``listener(iteration, objective, max_constraint_violation)``."""
+
+
+class IterationReporter(ca.Callback):
+    """CasADi callback with the inputs of ``nlpsol``'s outputs (x, f, g, lam_x, lam_g, lam_p).
+
+    ``lbg``/``ubg`` are the row bounds used to report the largest violation of ``g``.
+    """
+
+    def __init__(self, name: str, n_x: int, n_g: int) -> None:
+        ca.Callback.__init__(self)
+        self._n = {"x": n_x, "lam_x": n_x, "g": n_g, "lam_g": n_g, "f": 1}
+        self._listener: Listener | None = None
+        self._bounds: tuple[np.ndarray, np.ndarray] | None = None
+        self.iteration = 0
+        self.construct(name, {})
+
+    def get_n_in(self) -> int:
+        return ca.nlpsol_n_out()
+
+    def get_n_out(self) -> int:
+        return 1
+
+    def get_name_in(self, i: int) -> str:
+        return ca.nlpsol_out(i)
+
+    def get_name_out(self, i: int) -> str:
+        return "ret"
+
+    def get_sparsity_in(self, i: int) -> ca.Sparsity:
+        n = self._n.get(ca.nlpsol_out(i), 0)
+        return ca.Sparsity.dense(n, 1) if n else ca.Sparsity(0, 0)
+
+    def eval(self, arg: list) -> list:
+        if self._listener is not None:
+            g = np.array(arg[2]).ravel()
+            lo, hi = self._bounds if self._bounds is not None else (g, g)
+            viol = float(max(np.max(lo - g, initial=0.0), np.max(g - hi, initial=0.0)))
+            self._listener(self.iteration, float(arg[1]), viol)
+        self.iteration += 1
+        return [0]
+
+    @contextlib.contextmanager
+    def listening(
+        self, listener: Listener | None, lbg: np.ndarray, ubg: np.ndarray
+    ) -> Iterator[None]:
+        """Report the iterations of the stage run inside this block to ``listener``."""
+        self._listener, self._bounds, self.iteration = listener, (lbg, ubg), 0
+        try:
+            yield
+        finally:
+            self._listener, self._bounds = None, None
