@@ -8,7 +8,7 @@ import pytest
 from walk3d.io import model_cache
 from walk3d.problem import nlp
 from walk3d.problem.settings import PredictionSettings, body_for
-from walk3d.solve import ipopt
+from walk3d.solve import ipopt, solver
 
 SETTINGS = PredictionSettings(nodes=6, max_iter=3, balance_max_iter=3)
 
@@ -21,7 +21,7 @@ def cache_dir(tmp_path, monkeypatch):
 
 
 def _key(settings: PredictionSettings) -> str:
-    exclude = set(ipopt.RUNTIME_FIELDS)
+    exclude = set(solver.RUNTIME_FIELDS)
     return model_cache.model_key(settings.model_dump(exclude=exclude), body_for(settings))
 
 
@@ -37,9 +37,9 @@ def _run(fn: ca.Function, z0: np.ndarray, b) -> np.ndarray:
 
 
 def test_solver_from_cache_equals_a_fresh_one(cache_dir):
-    fresh = ipopt._build.__wrapped__(SETTINGS, "ipopt", True)  # empty cache: built and stored
+    fresh = solver._build.__wrapped__(SETTINGS, "ipopt", True)  # empty cache: built and stored
     assert not fresh.from_cache and len(list(cache_dir.glob("model-*.casadi"))) == 1
-    cached = ipopt._build.__wrapped__(SETTINGS, "ipopt", True)
+    cached = solver._build.__wrapped__(SETTINGS, "ipopt", True)
     assert cached.from_cache
     z0 = ipopt.initial_guess(fresh, 0)
     np.testing.assert_array_equal(z0, ipopt.initial_guess(cached, 0))
@@ -66,12 +66,12 @@ def test_solver_from_cache_equals_a_fresh_one(cache_dir):
 def test_a_damaged_entry_is_rebuilt_and_rewritten(cache_dir, caplog, recorded):
     body = body_for(SETTINGS)
     model_cache.write_functions(_key(SETTINGS), recorded[0])
-    _, hit = ipopt._model_functions(body, SETTINGS, True)
+    _, hit = solver._model_functions(body, SETTINGS, True)
     assert hit
     (entry,) = cache_dir.glob("model-*.casadi")
     text = entry.read_text()
     entry.write_text(text[: len(text) // 2] + "x" + text[len(text) // 2 + 1 :])
-    functions, hit = ipopt._model_functions(body, SETTINGS, True)
+    functions, hit = solver._model_functions(body, SETTINGS, True)
     assert not hit and "damaged" in caplog.text
     assert set(functions) == set(model_cache.read_functions(_key(SETTINGS)))  # rewritten
 
@@ -165,5 +165,5 @@ def test_model_functions_do_not_read_the_fields_left_out_of_the_key(recorded):
     fns, read = recorded
     assert set(fns) == {"loop"} | {nlp._node_name(d, b, h) for d, b in nlp.STAGES.values()
                                    for h in (True, False)}  # fmt: skip
-    assert read and not read & ipopt.RUNTIME_FIELDS, read & ipopt.RUNTIME_FIELDS
+    assert read and not read & solver.RUNTIME_FIELDS, read & solver.RUNTIME_FIELDS
     assert read <= set(PredictionSettings.model_fields) | {"stride_length"}

@@ -5,12 +5,13 @@ import pytest
 
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import ipopt
+from walk3d.solve import solver as solver_mod
 
 SETTINGS = PredictionSettings(nodes=6, max_iter=3, balance_max_iter=3)
 
 
 def test_stages_are_built_once_on_first_use_or_in_the_background():
-    solver = ipopt._build.__wrapped__(SETTINGS, "ipopt", False)
+    solver = solver_mod._build.__wrapped__(SETTINGS, "ipopt", False)
     assert solver.stage_build_s == {}  # nothing built yet
     solver.prepare("full", "balance_direct").join()
     assert set(solver.stage_build_s) == {"nlp:full", "full", "nlp:balance", "balance_direct"}
@@ -28,7 +29,7 @@ def test_stages_are_built_once_on_first_use_or_in_the_background():
 
 def test_a_solve_builds_only_the_stages_it_runs():
     settings = SETTINGS.model_copy(update={"posture_stage": "off"})
-    ipopt._build.cache_clear()
+    solver_mod._build.cache_clear()
     outcome = ipopt.solve(settings, seed=0)
     solver = ipopt.build_solver(settings)
     assert [st["stage"] for st in outcome.stages] == ["balance", "full"]

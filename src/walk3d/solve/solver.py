@@ -1,0 +1,231 @@
+"""Building the prediction NLP's solvers: one :class:`Solver` per settings and method.
+
+A :class:`Solver` holds the NLP's bounds and lifting maps; its stage solvers (CasADi ``nlpsol``
+with IPOPT, or ``sqpmethod``) are built on first use or in the background
+(:meth:`Solver.prepare`). Solvers are kept in memory per settings (:func:`build_solver`); the
+slow symbolic part of a build, the model's SX functions, is also kept on disk for the next
+process (:mod:`walk3d.io.model_cache`). docs/solver.md has the measurements.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import dataclass, field
+from functools import cache
+
+import casadi as ca
+import numpy as np
+
+from walk3d.body.model import BodyModel
+from walk3d.io import model_cache
+from walk3d.problem import nlp
+from walk3d.problem.bounds import Bounds, bounds
+from walk3d.problem.schedule import Schedule, schedule
+from walk3d.problem.settings import PredictionSettings, body_for
+from walk3d.solve.progress import IterationReporter
+
+STAGE_PROBLEMS = {"posture": "posture", "balance": "balance", "balance_direct": "balance",
+                  "full": "full"}  # fmt: skip
+"""Solver stages and the NLP (:data:`walk3d.problem.nlp.STAGES`) each solves; ``balance_direct``
+is the balance NLP straight from standing, limited to ``balance_max_iter`` iterations."""
+
+
+_NLP_KEYS = tuple(f"nlp:{kind}" for kind in nlp.STAGES)
+
+
+@dataclass(frozen=True, eq=False)
+class Solver:
+    """The NLP of one settings: bounds and lifting maps at once, stage solvers on first use.
+
+    Building a stage's exact derivatives (per-node Jacobian and Hessian, about 3-4 s per stage
+    at 20 nodes) is most of a build, so a stage is built when it is first asked for
+    (:meth:`stage`, or the attributes ``posture``, ``balance``, ``balance_direct``, ``full``),
+    and :meth:`prepare` builds stages in a background thread while another stage solves
+    (CasADi releases the GIL). The posture stage, a fallback, is then never built unless used.
+    """
+
+    settings: PredictionSettings
+    body: BodyModel
+    method: str
+    functions: dict[str, ca.Function]
+    """The model's SX functions (:func:`walk3d.problem.nlp.model_functions`)."""
+    bounds: Bounds
+    bounds_balance: Bounds
+    bounds_posture: Bounds
+    lift: np.ndarray
+    schedule: Schedule
+    build_time_s: float
+    """Time to set up the solver without its stages (model functions, bounds)."""
+    from_cache: bool = False
+    """Whether the model's SX functions were read from the on-disk cache."""
+    stage_build_s: dict[str, float] = field(default_factory=dict, repr=False)
+    """Seconds spent building each NLP and stage solver so far, by name."""
+    reporter: IterationReporter = field(init=False, repr=False)
+    """IPOPT's per-iteration callback, shared by the stage solvers (:mod:`.progress`)."""
+    _built: dict[str, object] = field(default_factory=dict, repr=False)
+    _locks: dict[str, threading.Lock] = field(
+        default_factory=lambda: {k: threading.Lock() for k in (*STAGE_PROBLEMS, *_NLP_KEYS)},
+        repr=False,
+    )
+
+    def __post_init__(self) -> None:
+        n_x, n_g = self.bounds.lbz.size, self.bounds.lbg.size
+        object.__setattr__(self, "reporter", IterationReporter("walk3d_progress", n_x, n_g))
+
+    def _problem(self, kind: str) -> dict:
+        """The NLP dict of ``kind`` (posture, balance, full) with its derivative functions."""
+        key = f"nlp:{kind}"
+        with self._locks[key]:
+            if key not in self._built:
+                t0 = time.perf_counter()
+                dynamics, balance = nlp.STAGES[kind]
+                prob, _, _ = nlp.build_nlp(self.body, self.settings, dynamics=dynamics,
+                                           balance=balance, functions=self.functions)  # fmt: skip
+                self._built[key] = prob
+                self.stage_build_s[key] = time.perf_counter() - t0
+            return self._built[key]  # type: ignore[return-value]
+
+    def stage(self, name: str) -> ca.Function:
+        """The solver of stage ``name`` (:data:`STAGE_PROBLEMS`), built on first use."""
+        with self._locks[name]:
+            if name not in self._built:
+                prob = self._problem(STAGE_PROBLEMS[name])
+                t0 = time.perf_counter()
+                if self.method == "ipopt":
+                    opts = _ipopt_options(self.settings)
+                    if name == "balance_direct":
+                        opts["ipopt.max_iter"] = self.settings.balance_max_iter
+                    plugin = "ipopt"
+                else:
+                    opts, plugin = _sqp_options(self.settings), "sqpmethod"
+                opts["iteration_callback"] = self.reporter
+                fn = ca.nlpsol(f"walk3d_{name}", plugin, *_with_derivatives(prob, opts))
+                self._built[name] = fn
+                self.stage_build_s[name] = time.perf_counter() - t0
+            return self._built[name]  # type: ignore[return-value]
+
+    def prepare(self, *names: str) -> threading.Thread:
+        """Build the stages ``names`` in a background thread (started and returned)."""
+        unknown = set(names) - set(STAGE_PROBLEMS)
+        if unknown:
+            raise ValueError(f"unknown stages {sorted(unknown)}; known: {list(STAGE_PROBLEMS)}")
+
+        def work() -> None:
+            for name in names:
+                self.stage(name)
+
+        thread = threading.Thread(target=work, name="walk3d-build", daemon=True)
+        thread.start()
+        return thread
+
+    @property
+    def posture(self) -> ca.Function:
+        return self.stage("posture")
+
+    @property
+    def balance(self) -> ca.Function:
+        return self.stage("balance")
+
+    @property
+    def balance_direct(self) -> ca.Function:
+        return self.stage("balance_direct")
+
+    @property
+    def full(self) -> ca.Function:
+        return self.stage("full")
+
+    @property
+    def constraints(self) -> ca.Function:
+        """``g(z)`` of the full stage (used to start it consistently)."""
+        prob = self._problem("full")
+        return ca.Function("walk3d_g", [prob["x"]], [prob["g"]])
+
+
+def _ipopt_options(settings: PredictionSettings) -> dict:
+    return {
+        "print_time": False,
+        "ipopt.print_level": 0,
+        "ipopt.sb": "yes",
+        "ipopt.max_iter": settings.max_iter,
+        "ipopt.tol": settings.tol,
+        "ipopt.mu_strategy": "adaptive",
+        "ipopt.linear_solver": "mumps",
+        # METIS ordering: on this KKT structure (20 nodes, balance stage, 20 iterations) the
+        # linear algebra took 1.6 s with METIS, 5.0 s with QAMD, 8.3 s with AMD and 25-30 s
+        # with AMF, PORD or MUMPS's automatic choice
+        "ipopt.mumps_pivot_order": 5,
+    }
+
+
+RUNTIME_FIELDS = frozenset({
+    "nodes", "threads", "derivatives", "range_oversampling", "loop_checks", "loop_check_toe_off",
+    "loop_check_tolerance", "posture_stage", "balance_max_iter", "perturbation", "max_iter", "tol",
+})  # fmt: skip
+"""Settings that :func:`walk3d.problem.nlp.model_functions` does not read (they shape the NLP
+around the node functions, the solver options or the start), so they are left out of the
+cache key: settings differing only in these share an entry. A test records the fields that
+``model_functions`` reads (``tests/solve/test_solve_cache.py``)."""
+
+
+def _model_functions(
+    body: BodyModel, settings: PredictionSettings, use_cache: bool
+) -> tuple[dict[str, ca.Function], bool]:
+    """The model's SX functions, from the disk cache when possible: ``(functions, from_cache)``."""
+    if not use_cache:
+        return nlp.model_functions(body, settings), False
+    model_settings = settings.model_dump(exclude=set(RUNTIME_FIELDS))
+    key = model_cache.model_key(model_settings, body)
+    functions = model_cache.read_functions(key)
+    if functions is not None:
+        return functions, True
+    functions = nlp.model_functions(body, settings)
+    model_cache.write_functions(key, functions)
+    return functions, False
+
+
+@cache
+def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool = True) -> Solver:
+    t0 = time.perf_counter()
+    body = body_for(settings)
+    fns, hit = _model_functions(body, settings, use_cache)
+    sch = schedule(settings)
+    lift = nlp.lifting_maps(settings, sch)
+    return Solver(settings, body, method, fns, bounds(body, settings, sch),
+                  bounds(body, settings, sch, dynamics=False),
+                  bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
+                  time.perf_counter() - t0, hit)  # fmt: skip
+
+
+def _with_derivatives(prob: dict, opts: dict) -> tuple[dict, dict]:
+    """The NLP dict and solver options, with the structured derivatives (if built) as options."""
+    prob = dict(prob)
+    derivs = prob.pop("derivatives", {})
+    return prob, opts | derivs
+
+
+def _sqp_options(settings: PredictionSettings) -> dict:
+    """CasADi ``sqpmethod`` (the paper used MATLAB's SQP) with the qrqp QP solver."""
+    return {
+        "qpsol": "qrqp",
+        "qpsol_options": {"print_iter": False, "print_header": False, "error_on_fail": False},
+        "max_iter": settings.max_iter,
+        "tol_pr": settings.tol,
+        "tol_du": settings.tol,
+        "print_header": False,
+        "print_iteration": False,
+        "print_status": False,
+        "print_time": False,
+        "error_on_fail": False,
+    }
+
+
+def build_solver(
+    settings: PredictionSettings, method: str = "ipopt", cache: bool | None = None
+) -> Solver:
+    """The solver for these settings (built on first use, then reused in this process).
+
+    ``cache``: whether to read and write the model's SX functions in the on-disk cache
+    (:mod:`walk3d.io.model_cache`); None (default) follows ``$WALK3D_CACHE`` (on unless ``0``).
+    """
+    return _build(settings, method, model_cache.cache_enabled(cache))
