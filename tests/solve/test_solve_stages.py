@@ -40,11 +40,12 @@ def test_progress_reports_every_iteration_of_every_stage():
     settings = SETTINGS.model_copy(update={"posture_stage": "off"})
     messages: list[str] = []
     outcome = ipopt.solve(settings, seed=0, on_stage=messages.append)
-    per_stage = [sum(1 for m in messages if m.startswith(prefix) and "· iteration" in m)
+    per_stage = [sum(1 for m in messages if m.startswith(prefix) and ": iteration" in m)
                  for prefix in ("stage 1/2", "stage 2/2")]  # fmt: skip
     # IPOPT reports its starting point (iteration 0) and then every iteration
     assert per_stage == [st["iterations"] + 1 for st in outcome.stages]
-    last = [m for m in messages if "· iteration" in m][-1]
+    last = [m for m in messages if ": iteration" in m][-1]
+    assert len(last) < 72 and last.startswith("stage 2/2 (C_tor): ")
     assert f"iteration {outcome.stages[-1]['iterations']}," in last
     # without a listener the shared callback stays silent (and a solve still works)
     assert ipopt.build_solver(settings).reporter._listener is None

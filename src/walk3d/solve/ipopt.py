@@ -142,12 +142,12 @@ def solve(
     note = on_stage or (lambda _msg: None)
     current = [""]
 
-    def stage_note(msg: str) -> None:
-        current[0] = msg
+    def stage_note(msg: str, short: str = "") -> None:
+        current[0] = short
         note(msg)
 
-    def listener(it: int, f: float, viol: float) -> None:
-        note(f"{current[0]} · iteration {it}, objective {f:.4g}, infeasibility {viol:.1e}")
+    def listener(it: int, f: float, viol: float) -> None:  # one terminal line (< 72 characters)
+        note(f"{current[0]}: iteration {it}, objective {f:.4g}, infeasibility {viol:.0e}")
 
     run_listener = listener if on_stage else None
     stage_note("building the model")
@@ -161,18 +161,22 @@ def solve(
         name = "balance_direct" if limited else "balance"
         fn = solver.stage(name)
         solver.prepare("full")  # built while the balance stage solves
-        stage_note("stage 1/2: balance (walking posture, total reaction under the feet)")
+        stage_note(
+            "stage 1/2: balance (walking posture, total reaction under the feet)",
+            "stage 1/2 (balance)",
+        )
         z, info1 = _run(fn, solver, z_stand, name, solver.bounds_balance, run_listener)
         stages.append(info1)
     if settings.posture_stage != "off" and (info1 is None or info1["status"] not in IPOPT_SUCCESS):
-        stage_note("stage 0: walking posture (geometry only)")
+        stage_note("stage 0: walking posture (geometry only)", "stage 0 (posture)")
         z, info = _run(solver.posture, solver, z_stand, "posture", solver.bounds_posture,
                        run_listener)  # fmt: skip
         stages.append(info)
-        stage_note("stage 1/2: balance, from the walking posture")
+        stage_note("stage 1/2: balance, from the walking posture", "stage 1/2 (balance)")
         z, info1 = _run(solver.balance, solver, z, "balance", solver.bounds_balance, run_listener)
         stages.append(info1)
-    stage_note(f"stage 2/2: minimizing C_{settings.criterion}")
+    crit = f"C_{settings.criterion}"
+    stage_note(f"stage 2/2: minimizing {crit}", f"stage 2/2 ({crit})")
     z, info2 = _run(solver.full, solver, full_stage_start(solver, z), "full", solver.bounds,
                     run_listener)  # fmt: skip
     stages.append(info2)
