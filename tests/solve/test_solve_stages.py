@@ -22,6 +22,7 @@ def test_stages_are_built_once_on_first_use_or_in_the_background():
     assert "nlp:posture" not in solver.stage_build_s and "posture" not in solver.stage_build_s
     z0 = ipopt.initial_guess(solver, 0)
     g = np.array(solver.constraints(ipopt.full_stage_start(solver, z0))).ravel()
+    assert solver.constraints is solver.constraints  # built once
     assert g.size == solver.bounds.lbg.size
     with pytest.raises(ValueError, match="unknown stages"):
         solver.prepare("walking")

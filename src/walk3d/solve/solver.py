@@ -31,7 +31,8 @@ STAGE_PROBLEMS = {"posture": "posture", "balance": "balance", "balance_direct": 
 is the balance NLP straight from standing, limited to ``balance_max_iter`` iterations."""
 
 
-_NLP_KEYS = tuple(f"nlp:{kind}" for kind in nlp.STAGES)
+_LOCK_KEYS = (*STAGE_PROBLEMS, *(f"nlp:{kind}" for kind in nlp.STAGES), "constraints")
+"""What a :class:`Solver` builds lazily, each under its own lock: stage solvers, NLPs, ``g``."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -65,8 +66,7 @@ class Solver:
     """IPOPT's per-iteration callback, shared by the stage solvers (:mod:`.progress`)."""
     _built: dict[str, object] = field(default_factory=dict, repr=False)
     _locks: dict[str, threading.Lock] = field(
-        default_factory=lambda: {k: threading.Lock() for k in (*STAGE_PROBLEMS, *_NLP_KEYS)},
-        repr=False,
+        default_factory=lambda: {k: threading.Lock() for k in _LOCK_KEYS}, repr=False
     )
 
     def __post_init__(self) -> None:
@@ -137,9 +137,12 @@ class Solver:
 
     @property
     def constraints(self) -> ca.Function:
-        """``g(z)`` of the full stage (used to start it consistently)."""
-        prob = self._problem("full")
-        return ca.Function("walk3d_g", [prob["x"]], [prob["g"]])
+        """``g(z)`` of the full stage (used to start it consistently), built once."""
+        with self._locks["constraints"]:
+            if "constraints" not in self._built:
+                prob = self._problem("full")
+                self._built["constraints"] = ca.Function("walk3d_g", [prob["x"]], [prob["g"]])
+            return self._built["constraints"]  # type: ignore[return-value]
 
 
 def _ipopt_options(settings: PredictionSettings) -> dict:
