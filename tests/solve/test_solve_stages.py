@@ -50,3 +50,11 @@ def test_progress_reports_every_iteration_of_every_stage():
     assert f"iteration {outcome.stages[-1]['iterations']}," in last
     # without a listener the shared callback stays silent (and a solve still works)
     assert ipopt.build_solver(settings).reporter._listener is None
+
+
+def test_the_sqp_method_builds_its_stages_with_casadis_own_derivatives():
+    # sqpmethod refuses IPOPT's grad_f / jac_g / hess_lag options (it used to fail here)
+    sqp = solver_mod._build.__wrapped__(SETTINGS, "sqp", False)
+    for name in ("balance", "full"):
+        fn = sqp.stage(name)
+        assert fn.class_name() == "Sqpmethod"

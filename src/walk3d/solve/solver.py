@@ -100,7 +100,7 @@ class Solver:
                 else:
                     opts, plugin = _sqp_options(self.settings), "sqpmethod"
                 opts["iteration_callback"] = self.reporter
-                fn = ca.nlpsol(f"walk3d_{name}", plugin, *_with_derivatives(prob, opts))
+                fn = ca.nlpsol(f"walk3d_{name}", plugin, *_with_derivatives(prob, opts, plugin))
                 self._built[name] = fn
                 self.stage_build_s[name] = time.perf_counter() - t0
             return self._built[name]  # type: ignore[return-value]
@@ -200,11 +200,15 @@ def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool 
                   time.perf_counter() - t0, hit)  # fmt: skip
 
 
-def _with_derivatives(prob: dict, opts: dict) -> tuple[dict, dict]:
-    """The NLP dict and solver options, with the structured derivatives (if built) as options."""
+def _with_derivatives(prob: dict, opts: dict, plugin: str = "ipopt") -> tuple[dict, dict]:
+    """The NLP dict and solver options, with the structured derivatives (if built) as options.
+
+    Only IPOPT's interface takes them (``grad_f``, ``jac_g``, ``hess_lag``); ``sqpmethod``
+    refuses those options, so it gets CasADi's own (equal, slower) derivatives of the NLP.
+    """
     prob = dict(prob)
     derivs = prob.pop("derivatives", {})
-    return prob, opts | derivs
+    return prob, opts | derivs if plugin == "ipopt" else opts
 
 
 def _sqp_options(settings: PredictionSettings) -> dict:
