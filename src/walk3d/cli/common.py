@@ -30,7 +30,14 @@ DoubleSupport = Annotated[
     float, typer.Option("--double-support", help="Double-support duration Td, s.")
 ]
 Criterion = Annotated[str, typer.Option("--criterion", help="tor or en.")]
-SolverName = Annotated[str, typer.Option("--solver", help="ipopt or sqp.")]
+SolverName = Annotated[
+    str,
+    typer.Option(
+        "--solver",
+        help="ipopt (default) or sqp: CasADi's sqpmethod, the paper's method; far slower, and "
+        "not yet seen to converge on the default problem (docs/solver.md).",
+    ),
+]
 Nodes = Annotated[int, typer.Option("--nodes", help="Time nodes per half cycle.")]
 FromTrial = Annotated[
     str | None,
