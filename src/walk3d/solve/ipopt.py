@@ -140,45 +140,42 @@ def solve(
     stage's message with its iteration, objective and largest constraint violation.
     """
     note = on_stage or (lambda _msg: None)
-    current = [""]
 
-    def stage_note(msg: str, short: str = "") -> None:
-        current[0] = short
-        note(msg)
+    def progress(label: str) -> Listener | None:
+        """Per-iteration messages of one stage, on one terminal line (< 72 characters)."""
+        if on_stage is None:
+            return None
+        return lambda it, f, viol: on_stage(
+            f"{label}: iteration {it}, objective {f:.4g}, infeasibility {viol:.0e}"
+        )
 
-    def listener(it: int, f: float, viol: float) -> None:  # one terminal line (< 72 characters)
-        note(f"{current[0]}: iteration {it}, objective {f:.4g}, infeasibility {viol:.0e}")
-
-    run_listener = listener if on_stage else None
-    stage_note("building the model")
+    note("building the model")
     solver = build_solver(settings, method)
     t0 = time.perf_counter()
     z = initial_guess(solver, seed)
     stages = []
     z_stand, info1 = z, None
+    balance = progress("stage 1/2 (balance)")
     if settings.posture_stage != "first":
         limited = settings.posture_stage == "fallback"
         name = "balance_direct" if limited else "balance"
         fn = solver.stage(name)
         solver.prepare("full")  # built while the balance stage solves
-        stage_note(
-            "stage 1/2: balance (walking posture, total reaction under the feet)",
-            "stage 1/2 (balance)",
-        )
-        z, info1 = _run(fn, solver, z_stand, name, solver.bounds_balance, run_listener)
+        note("stage 1/2: balance (walking posture, total reaction under the feet)")
+        z, info1 = _run(fn, solver, z_stand, name, solver.bounds_balance, balance)
         stages.append(info1)
     if settings.posture_stage != "off" and (info1 is None or info1["status"] not in IPOPT_SUCCESS):
-        stage_note("stage 0: walking posture (geometry only)", "stage 0 (posture)")
+        note("stage 0: walking posture (geometry only)")
         z, info = _run(solver.posture, solver, z_stand, "posture", solver.bounds_posture,
-                       run_listener)  # fmt: skip
+                       progress("stage 0 (posture)"))  # fmt: skip
         stages.append(info)
-        stage_note("stage 1/2: balance, from the walking posture", "stage 1/2 (balance)")
-        z, info1 = _run(solver.balance, solver, z, "balance", solver.bounds_balance, run_listener)
+        note("stage 1/2: balance, from the walking posture")
+        z, info1 = _run(solver.balance, solver, z, "balance", solver.bounds_balance, balance)
         stages.append(info1)
     crit = f"C_{settings.criterion}"
-    stage_note(f"stage 2/2: minimizing {crit}", f"stage 2/2 ({crit})")
+    note(f"stage 2/2: minimizing {crit}")
     z, info2 = _run(solver.full, solver, full_stage_start(solver, z), "full", solver.bounds,
-                    run_listener)  # fmt: skip
+                    progress(f"stage 2/2 ({crit})"))  # fmt: skip
     stages.append(info2)
     return SolveOutcome(
         x=z[: layout.N_X].copy(),
