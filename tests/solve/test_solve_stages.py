@@ -58,3 +58,24 @@ def test_the_sqp_method_builds_its_stages_with_casadis_own_derivatives():
     for name in ("balance", "full"):
         fn = sqp.stage(name)
         assert fn.class_name() == "Sqpmethod"
+
+
+@pytest.mark.parametrize(
+    ("update", "expected"),
+    [
+        # the balance stage from standing converges, the full stage does not (3 iterations):
+        # the solve retries once from standing through the posture stage
+        ({"balance_max_iter": 400}, ["balance_direct", "full", "posture", "balance", "full"]),
+        # the balance stage from standing fails: posture fallback, and no second retry
+        ({"balance_max_iter": 3}, ["balance_direct", "posture", "balance", "full"]),
+        ({"posture_stage": "first"}, ["posture", "balance", "full"]),
+        ({"posture_stage": "off", "balance_max_iter": 400}, ["balance", "full"]),
+    ],
+)
+def test_stage_sequence_of_the_posture_fallback(update, expected):
+    outcome = ipopt.solve(SETTINGS.model_copy(update=update), seed=0)
+    assert [st["stage"] for st in outcome.stages] == expected
+    if expected[:2] == ["balance_direct", "full"]:  # the retry follows a converged first stage
+        assert outcome.stages[0]["status"] in ipopt.IPOPT_SUCCESS
+    assert not outcome.converged and outcome.status == outcome.stages[-1]["status"]
+    assert outcome.iterations == sum(st["iterations"] for st in outcome.stages)

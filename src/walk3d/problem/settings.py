@@ -53,10 +53,12 @@ class PredictionSettings(BaseModel):
     posture_stage: Literal["fallback", "first", "off"] = "fallback"
     """When the geometry-only posture stage runs. ``fallback`` (default): the balance stage
     starts from standing, and only if it has not converged within ``balance_max_iter``
-    iterations does the solve restart from standing through the posture stage. ``first``:
-    always posture, then balance. ``off``: never. The fallback makes every start converge (8 of 8
-    measured), but from it the paper's subject mostly ended in a crouched optimum (seeds 1–4,
-    6, 7), while the Falisse descriptors walked (docs/solver.md)."""
+    iterations, or if the full stage after it has not converged, does the solve restart from
+    standing through the posture stage. ``first``: always posture, then balance. ``off``: never.
+    From the fallback the paper's subject mostly ended in a crouched optimum (seeds 1–4, 6, 7),
+    while the Falisse descriptors walked. The retry after a failed full stage rescued seed 15 of
+    the benchmark (direct path: 800 iterations without converging; retry: converged in 48 s),
+    docs/solver.md."""
     balance_max_iter: int = 250
     """Iteration limit of the balance stage started straight from standing before the posture
     fallback (it converged in 102–285 iterations when it converged; 600 did not lead more

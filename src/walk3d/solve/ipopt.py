@@ -152,31 +152,44 @@ def solve(
     note("building the model")
     solver = build_solver(settings, method)
     t0 = time.perf_counter()
-    z = initial_guess(solver, seed)
-    stages = []
-    z_stand, info1 = z, None
-    balance = progress("stage 1/2 (balance)")
-    if settings.posture_stage != "first":
-        limited = settings.posture_stage == "fallback"
-        name = "balance_direct" if limited else "balance"
-        fn = solver.stage(name)
+    z_stand = initial_guess(solver, seed)
+    stages: list[dict] = []
+
+    def run(name: str, z0: np.ndarray, bounds: Bounds, label: str) -> tuple[np.ndarray, dict]:
+        z, info = _run(solver.stage(name), solver, z0, name, bounds, progress(label))
+        stages.append(info)
+        return z, info
+
+    def through_posture() -> tuple[np.ndarray, dict]:
+        note("stage 0: walking posture (geometry only)")
+        z, _ = run("posture", z_stand, solver.bounds_posture, "stage 0 (posture)")
+        note("stage 1/2: balance, from the walking posture")
+        return run("balance", z, solver.bounds_balance, "stage 1/2 (balance)")
+
+    crit = f"C_{settings.criterion}"
+
+    def full(z: np.ndarray) -> tuple[np.ndarray, dict]:
+        note(f"stage 2/2: minimizing {crit}")
+        return run("full", full_stage_start(solver, z), solver.bounds, f"stage 2/2 ({crit})")
+
+    fallback = settings.posture_stage == "fallback"
+    if settings.posture_stage == "first":
+        z, info1 = through_posture()
+    else:
+        name = "balance_direct" if fallback else "balance"
+        solver.stage(name)
         solver.prepare("full")  # built while the balance stage solves
         note("stage 1/2: balance (walking posture, total reaction under the feet)")
-        z, info1 = _run(fn, solver, z_stand, name, solver.bounds_balance, balance)
-        stages.append(info1)
-    if settings.posture_stage != "off" and (info1 is None or info1["status"] not in IPOPT_SUCCESS):
-        note("stage 0: walking posture (geometry only)")
-        z, info = _run(solver.posture, solver, z_stand, "posture", solver.bounds_posture,
-                       progress("stage 0 (posture)"))  # fmt: skip
-        stages.append(info)
-        note("stage 1/2: balance, from the walking posture")
-        z, info1 = _run(solver.balance, solver, z, "balance", solver.bounds_balance, balance)
-        stages.append(info1)
-    crit = f"C_{settings.criterion}"
-    note(f"stage 2/2: minimizing {crit}")
-    z, info2 = _run(solver.full, solver, full_stage_start(solver, z), "full", solver.bounds,
-                    progress(f"stage 2/2 ({crit})"))  # fmt: skip
-    stages.append(info2)
+        z, info1 = run(name, z_stand, solver.bounds_balance, "stage 1/2 (balance)")
+    used_posture = settings.posture_stage == "first"
+    if fallback and info1["status"] not in IPOPT_SUCCESS:
+        z, info1 = through_posture()
+        used_posture = True
+    z, info2 = full(z)
+    if fallback and not used_posture and info2["status"] not in IPOPT_SUCCESS:
+        note("the full stage did not converge: retrying from standing through the posture stage")
+        z, _ = through_posture()
+        z, info2 = full(z)
     return SolveOutcome(
         x=z[: layout.N_X].copy(),
         z=z,
