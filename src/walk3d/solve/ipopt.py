@@ -181,12 +181,12 @@ def solve(
         solver.prepare("full")  # built while the balance stage solves
         note("stage 1/2: balance (walking posture, total reaction under the feet)")
         z, info1 = run(name, z_stand, solver.bounds_balance, "stage 1/2 (balance)")
-    used_posture = settings.posture_stage == "first"
+    retry = fallback  # one retry through the posture stage, unless the fallback used it
     if fallback and info1["status"] not in IPOPT_SUCCESS:
         z, info1 = through_posture()
-        used_posture = True
+        retry = False
     z, info2 = full(z)
-    if fallback and not used_posture and info2["status"] not in IPOPT_SUCCESS:
+    if retry and info2["status"] not in IPOPT_SUCCESS:
         note("the full stage did not converge: retrying from standing through the posture stage")
         z, _ = through_posture()
         z, info2 = full(z)
