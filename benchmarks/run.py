@@ -41,6 +41,13 @@ def main(argv: list[str] | None = None) -> int:
         help="skip the SLSQP baseline on the first seed",
     )
     ap.add_argument("--baseline-time-limit", type=float, default=900.0)
+    ap.add_argument(
+        "--no-compile",
+        dest="compile",
+        action="store_false",
+        help="keep the derivatives in CasADi's VM (default: compile them to C first, as "
+        "walk3d compile, if a C compiler is found; not counted per solve)",
+    )
     ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "solve.json"))
     args = ap.parse_args(argv)
 
@@ -51,14 +58,27 @@ def main(argv: list[str] | None = None) -> int:
 
     threads = args.threads or min(available_cores(), 64)
     settings = PredictionSettings(criterion=args.criterion, nodes=args.nodes, threads=threads)
+    compile_info = None
+    if args.compile:
+        from walk3d.io.compiled import compiler
+        from walk3d.solve.solver import compile_solver
+
+        if compiler() is None:
+            print("no C compiler: derivatives stay in CasADi's VM")
+        else:
+            compile_info = compile_solver(settings)
+            print(f"compiled derivatives: {compile_info['compiled']} libraries in "
+                  f"{compile_info['wall_time_s']:.0f} s (0 if already in the cache)")  # fmt: skip
     t0 = time.perf_counter()
     solver = ipopt.build_solver(settings)
     from_cache = solver.from_cache
+    compiled_kinds = sorted(solver.compiled)
     solver.stage("balance_direct")
     first_stage = time.perf_counter() - t0  # a solve's first iteration could start here
     solver.stage("full")  # the default path's stages, so no solve below pays for a build
     build = time.perf_counter() - t0
     source = "SX functions from the model cache" if from_cache else "cold"
+    source += f"; compiled derivatives: {', '.join(compiled_kinds) or 'none'}"
     print(
         f"model build: {build:.1f} s ({source}; first stage ready after {first_stage:.1f} s; "
         "not counted per solve)"
@@ -75,6 +95,8 @@ def main(argv: list[str] | None = None) -> int:
             "build_time_s": build,
             "first_stage_ready_s": first_stage,
             "build_from_cache": from_cache,
+            "compiled_derivatives": compiled_kinds,
+            "compile": compile_info,
             "starts": len(runs),
             "converged": len(conv),
             "converged_share": len(conv) / max(len(runs), 1),

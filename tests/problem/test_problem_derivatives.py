@@ -5,7 +5,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from walk3d.problem import nlp
+from walk3d.problem import derivatives, nlp
 from walk3d.problem.settings import PredictionSettings, body_for
 
 
@@ -59,3 +59,39 @@ def test_structured_derivatives_equal_casadi(dynamics, balance, extra):
     assert all(i <= j for i, j in zip(r, c, strict=True))
     g_ref = ca.Function("g", [prob["x"]], [prob["g"]])(z0)
     np.testing.assert_allclose(np.array(g_val).ravel(), np.array(g_ref).ravel())
+
+
+@pytest.mark.parametrize(("dynamics", "criterion"), [(True, "en"), (False, "tor")])
+def test_column_blocks_equal_the_node_derivatives(dynamics, criterion):
+    """The blocks that are compiled to C (derivative_chunks, joined by assemble) give the
+    node Jacobian and Hessian of node_derivatives, and the NLP built from them the same
+    derivatives as CasADi's."""
+    s = PredictionSettings(nodes=6, criterion=criterion)
+    crit = 0 if criterion == "tor" else 1
+    node = nlp.node_function(body_for(s), s, dynamics, with_hs=False, balance=True)
+    jac, grad, hess = derivatives.node_derivatives(node, crit)
+    blocks = derivatives.derivative_chunks(node, crit, chunks=5, prefix="t")
+    assert [f.name() for f in blocks["hess"]] == [f"t_hess_{i}" for i in range(5)]
+    jac_b = derivatives.assemble(blocks["jac"], "jac_b")
+    hess_b = derivatives.assemble(blocks["hess"], "hess_b")
+    rng = np.random.default_rng(5)
+    v = rng.uniform(-0.1, 0.1, derivatives.N_V)
+    p = np.array([30.0, -0.7])
+    lam = rng.normal(size=node.size_out(0)[0])
+    h_ref = _dense(hess(v, p, 0.7, lam))
+    assert np.abs(h_ref).max() > 1.0
+    np.testing.assert_allclose(_dense(hess_b(v, p, 0.7, lam)), h_ref, rtol=0,
+                               atol=1e-12 * np.abs(h_ref).max())  # fmt: skip
+    np.testing.assert_allclose(_dense(jac_b(v, p)), _dense(jac(v, p)), rtol=0, atol=1e-12)
+
+    prob, _, _ = nlp.build_nlp(body_for(s), s, dynamics=dynamics, balance=True,
+                               node_derivs=(jac_b, grad, hess_b))  # fmt: skip
+    d = prob["derivatives"]
+    ref_jac, _, ref_hess = _reference(prob)
+    z0 = rng.uniform(-0.1, 0.1, prob["x"].numel())
+    lam_g = rng.normal(size=prob["g"].numel())
+    h_nlp = _dense(ref_hess(z0, 0.7, lam_g))
+    np.testing.assert_allclose(_dense(d["hess_lag"](z0, [], 0.7, lam_g)), h_nlp, rtol=0,
+                               atol=1e-10 * np.abs(h_nlp).max())  # fmt: skip
+    np.testing.assert_allclose(_dense(d["jac_g"](z0, [])[1]), _dense(ref_jac(z0)), rtol=0,
+                               atol=1e-11)  # fmt: skip

@@ -56,6 +56,9 @@ class NlpPieces:
     x: ca.MX
     threads: int = 1
     """Threads for the mapped node derivatives (``settings.threads``)."""
+    node_derivs: tuple[ca.Function, ca.Function, ca.Function] | None = None
+    """``(jac, grad, hess)`` of the mapped node function, if built elsewhere (compiled C, from
+    :func:`derivative_chunks`); None builds them here with :func:`node_derivatives`."""
 
 
 def node_columns(n: int, k: int) -> np.ndarray:
@@ -69,19 +72,63 @@ def node_columns(n: int, k: int) -> np.ndarray:
     ])  # fmt: skip
 
 
-def _node_derivatives(node: ca.Function, crit: int) -> tuple[ca.Function, ...]:
-    """Node k's constraint Jacobian, objective gradient and Lagrangian Hessian in ``v_k``
-    (separate functions: an MX call evaluates every output of the function it calls)."""
+def _node_symbols(node: ca.Function, crit: int):
+    """SX inputs and expressions of ``node``: ``(v, p, sf, lam_g, g, f[crit])``; the
+    Lagrangian is ``sf·f[crit] + lam_gᵀ g``."""
     y, w0, hw, p, t = (node.sx_in(i) for i in range(5))
     g, f = node(y, w0, hw, p, t)
-    v = ca.vertcat(y, w0, hw, t)
-    fc = f[crit]
     lam_g = ca.SX.sym("lam_g", g.numel())
-    sf = ca.SX.sym("sf")
+    return ca.vertcat(y, w0, hw, t), p, ca.SX.sym("sf"), lam_g, g, f[crit]
+
+
+def node_derivatives(node: ca.Function, crit: int) -> tuple[ca.Function, ...]:
+    """Node k's constraint Jacobian, objective gradient and Lagrangian Hessian in ``v_k``
+    (separate functions: an MX call evaluates every output of the function it calls).
+    Signatures: ``jac(v, p)``, ``grad(v, p)``, ``hess(v, p, sf, lam_g)``."""
+    v, p, sf, lam_g, g, fc = _node_symbols(node, crit)
     jac = ca.Function("walk3d_node_jac", [v, p], [ca.jacobian(g, v)])
-    grad = ca.Function("walk3d_node_grad", [v, p], [ca.gradient(fc, v)])
     hess = ca.hessian(sf * fc + ca.dot(lam_g, g), v)[0]
-    return jac, grad, ca.Function("walk3d_node_hess", [v, p, sf, lam_g], [hess])
+    return jac, node_gradient(node, crit), ca.Function("walk3d_node_hess", [v, p, sf, lam_g],
+                                                       [hess])  # fmt: skip
+
+
+def node_gradient(node: ca.Function, crit: int) -> ca.Function:
+    """``grad(v, p)``: the gradient of the node's criterion term (small)."""
+    v, p, _, _, _, fc = _node_symbols(node, crit)
+    return ca.Function("walk3d_node_grad", [v, p], [ca.gradient(fc, v)])
+
+
+def derivative_chunks(
+    node: ca.Function, crit: int, chunks: int = 8, prefix: str = "walk3d_node"
+) -> dict[str, list[ca.Function]]:
+    """The node Jacobian and Lagrangian Hessian as ``chunks`` SX functions each, every one a
+    block of columns (``jacobian(·, v[c0:c1])``), named ``<prefix>_jac_<i>`` and
+    ``<prefix>_hess_<i>``, with the signatures of :func:`node_derivatives`.
+
+    Why: to compile them to C (:mod:`walk3d.io.compiled`). The full stage's node Hessian is
+    1.7 million SX instructions; as one C function gcc did not compile it within 10 min at
+    -O0 (9 GB of memory), while 8 column blocks (1.9 million instructions in all, each
+    repeating the gradient) compiled in 38 s at -O0 and 167 s at -O1 on 2 cores, each block
+    under 1.8 GB. :func:`assemble` joins the blocks back; the values are those of
+    :func:`node_derivatives` (tested)."""
+    v, p, sf, lam_g, g, fc = _node_symbols(node, crit)
+    grad = ca.gradient(sf * fc + ca.dot(lam_g, g), v)
+    edges = np.linspace(0, v.numel(), chunks + 1).astype(int)
+    out: dict[str, list[ca.Function]] = {"jac": [], "hess": []}
+    for i, (c0, c1) in enumerate(zip(edges[:-1], edges[1:], strict=True)):
+        cols = v[int(c0) : int(c1)]
+        out["jac"].append(ca.Function(f"{prefix}_jac_{i}", [v, p], [ca.jacobian(g, cols)]))
+        out["hess"].append(ca.Function(f"{prefix}_hess_{i}", [v, p, sf, lam_g],
+                                       [ca.jacobian(grad, cols)]))  # fmt: skip
+    return out
+
+
+def assemble(blocks: list[ca.Function], name: str) -> ca.Function:
+    """One function from column blocks (:func:`derivative_chunks`, maybe compiled): the same
+    inputs, the blocks' outputs side by side."""
+    first = blocks[0]
+    args = [ca.MX.sym(first.name_in(i), first.sparsity_in(i)) for i in range(first.n_in())]
+    return ca.Function(name, args, [ca.horzcat(*(b(*args) for b in blocks))])
 
 
 def _triplets(sp: ca.Sparsity) -> tuple[np.ndarray, np.ndarray]:
@@ -151,9 +198,9 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     cols = [node_columns(n, k) for k in range(n)]
     v0 = z[cols[0].tolist()]
     vr = ca.reshape(z[np.concatenate(cols[1:]).tolist()], N_V, n - 1)
-    jn, dn, hn = _node_derivatives(pc.node, pc.crit)
+    jn, dn, hn = pc.node_derivs or node_derivatives(pc.node, pc.crit)
     same = pc.node0 is pc.node
-    j0, d0, h0 = (jn, dn, hn) if same else _node_derivatives(pc.node0, pc.crit)
+    j0, d0, h0 = (jn, dn, hn) if same else node_derivatives(pc.node0, pc.crit)
     pr, p0 = ca.DM(pc.params[:, 1:]), ca.DM(pc.params[:, 0])
 
     def mapped(fn: ca.Function) -> ca.Function:

@@ -267,6 +267,7 @@ def build_nlp(
     dynamics: bool = True,
     balance: bool = True,
     functions: dict[str, ca.Function] | None = None,
+    node_derivs: tuple[ca.Function, ca.Function, ca.Function] | None = None,
 ):
     """Symbolic NLP dict ``{x, f, g}`` (MX calling the per-node SX function), its
     :class:`Schedule` and the lifting maps ``(n_nodes, 78, N_X)``.
@@ -275,6 +276,8 @@ def build_nlp(
     loop checks (6 per :func:`loop_check_times`)]``. The node function is called once through
     ``map``, so derivatives are generated once per node function. ``functions``: prebuilt SX
     functions (:func:`model_functions`, maybe from the cache); missing ones are built here.
+    ``node_derivs``: ``(jac, grad, hess)`` of the mapped node function, if built elsewhere
+    (compiled; :attr:`walk3d.problem.derivatives.NlpPieces.node_derivs`).
     """
     sch = schedule(settings)
     fns = functions or {}
@@ -324,7 +327,7 @@ def build_nlp(
     if settings.derivatives == "structured":
         pieces = NlpPieces(z, f, g, node0, node, np.asarray(params), lift, range_np,
                            G_ROWS["hs_wrench"], hs_map, 2.0 * sch.step, crit, N_G,
-                           g_loop, x, settings.threads)  # fmt: skip
+                           g_loop, x, settings.threads, node_derivs)  # fmt: skip
         prob["derivatives"] = derivative_functions(pieces)
     return prob, sch, lift
 

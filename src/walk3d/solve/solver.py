@@ -11,15 +11,17 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cache
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
 
 from walk3d.body.model import BodyModel
-from walk3d.io import model_cache
-from walk3d.problem import nlp
+from walk3d.io import compiled, model_cache
+from walk3d.problem import derivatives, nlp
 from walk3d.problem.bounds import Bounds, bounds
 from walk3d.problem.schedule import Schedule, schedule
 from walk3d.problem.settings import PredictionSettings, body_for
@@ -30,6 +32,14 @@ STAGE_PROBLEMS = {"posture": "posture", "balance": "balance", "balance_direct": 
 """Solver stages and the NLP (:data:`walk3d.problem.nlp.STAGES`) each solves; ``balance_direct``
 is the balance NLP straight from standing, limited to ``balance_max_iter`` iterations."""
 
+
+COMPILED_NODES = {"balance": nlp._node_name(False, True, False),
+                  "full": nlp._node_name(True, True, False)}  # fmt: skip
+"""NLPs whose mapped node derivatives can be compiled to C (:func:`compile_solver`), and the
+node function of each. The posture NLP's derivatives are small (34 thousand instructions
+against 1.5-1.7 million) and node 0 is one node of ``nodes``: both stay in CasADi's VM."""
+CHUNKS = 8
+"""Column blocks per compiled Jacobian or Hessian (:func:`derivatives.derivative_chunks`)."""
 
 _LOCK_KEYS = (*STAGE_PROBLEMS, *(f"nlp:{kind}" for kind in nlp.STAGES), "constraints")
 """What a :class:`Solver` builds lazily, each under its own lock: stage solvers, NLPs, ``g``."""
@@ -60,6 +70,11 @@ class Solver:
     """Time to set up the solver without its stages (model functions, bounds)."""
     from_cache: bool = False
     """Whether the model's SX functions were read from the on-disk cache."""
+    compiled: dict[str, tuple[ca.Function, ca.Function, ca.Function]] = field(
+        default_factory=dict, repr=False
+    )
+    """Compiled ``(jac, grad, hess)`` of the mapped node function, by NLP kind (those found in
+    the cache at build time; :func:`compile_solver` makes them)."""
     stage_build_s: dict[str, float] = field(default_factory=dict, repr=False)
     """Seconds spent building each NLP and stage solver so far, by name."""
     reporter: IterationReporter = field(init=False, repr=False)
@@ -81,7 +96,8 @@ class Solver:
                 t0 = time.perf_counter()
                 dynamics, balance = nlp.STAGES[kind]
                 prob, _, _ = nlp.build_nlp(self.body, self.settings, dynamics=dynamics,
-                                           balance=balance, functions=self.functions)  # fmt: skip
+                                           balance=balance, functions=self.functions,
+                                           node_derivs=self.compiled.get(kind))  # fmt: skip
                 self._built[key] = prob
                 self.stage_build_s[key] = time.perf_counter() - t0
             return self._built[key]  # type: ignore[return-value]
@@ -171,20 +187,66 @@ cache key: settings differing only in these share an entry. A test records the f
 ``model_functions`` reads (``tests/solve/test_solve_cache.py``)."""
 
 
+def _model_key(body: BodyModel, settings: PredictionSettings) -> str:
+    return model_cache.model_key(settings.model_dump(exclude=set(RUNTIME_FIELDS)), body)
+
+
 def _model_functions(
     body: BodyModel, settings: PredictionSettings, use_cache: bool
 ) -> tuple[dict[str, ca.Function], bool]:
     """The model's SX functions, from the disk cache when possible: ``(functions, from_cache)``."""
     if not use_cache:
         return nlp.model_functions(body, settings), False
-    model_settings = settings.model_dump(exclude=set(RUNTIME_FIELDS))
-    key = model_cache.model_key(model_settings, body)
+    key = _model_key(body, settings)
     functions = model_cache.read_functions(key)
     if functions is not None:
         return functions, True
     functions = nlp.model_functions(body, settings)
     model_cache.write_functions(key, functions)
     return functions, False
+
+
+def _compiled_key(fns: dict[str, ca.Function], settings: PredictionSettings, kind: str) -> str:
+    """Key of ``kind``'s compiled blocks: what they are made of (the node function itself,
+    serialized, the criterion, the blocks, the code that makes them, CasADi) and the compiler
+    flags. Not the model key: that changes with any edit of walk3d's source, and a compile
+    takes minutes."""
+    made_of = (fns[COMPILED_NODES[kind]].serialize(), _crit(settings), CHUNKS, ca.__version__,
+               Path(derivatives.__file__).read_bytes())  # fmt: skip
+    return compiled.library_key(repr(made_of), compiled.flags())
+
+
+def _chunk_names(kind: str) -> list[str]:
+    return [f"walk3d_{kind}_{d}_{i}" for d in ("jac", "hess") for i in range(CHUNKS)]
+
+
+def _crit(settings: PredictionSettings) -> int:
+    return 0 if settings.criterion == "tor" else 1  # as in nlp.build_nlp
+
+
+def _chunk_functions(settings: PredictionSettings, fns: dict[str, ca.Function],
+                     kind: str) -> dict[str, ca.Function]:  # fmt: skip
+    """The SX functions to compile for ``kind``, by name (:func:`_chunk_names`)."""
+    blocks = derivatives.derivative_chunks(fns[COMPILED_NODES[kind]], _crit(settings), CHUNKS,
+                                           prefix=f"walk3d_{kind}")  # fmt: skip
+    return {f.name(): f for f in blocks["jac"] + blocks["hess"]}
+
+
+def _load_compiled(
+    settings: PredictionSettings, fns: dict[str, ca.Function]
+) -> dict[str, tuple[ca.Function, ca.Function, ca.Function]]:
+    """The compiled node derivatives found in the cache, as ``(jac, grad, hess)`` by kind."""
+    out = {}
+    for kind in COMPILED_NODES:
+        libs = compiled.load_functions(_compiled_key(fns, settings, kind), _chunk_names(kind))
+        if libs is None:
+            continue
+        names = _chunk_names(kind)
+        jac = derivatives.assemble([libs[n] for n in names[:CHUNKS]], f"walk3d_{kind}_jac")
+        hess = derivatives.assemble([libs[n] for n in names[CHUNKS:]], f"walk3d_{kind}_hess")
+        grad = derivatives.node_gradient(fns[COMPILED_NODES[kind]], _crit(settings))
+        out[kind] = (jac, grad, hess)
+    return out
 
 
 @cache
@@ -194,10 +256,11 @@ def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool 
     fns, hit = _model_functions(body, settings, use_cache)
     sch = schedule(settings)
     lift = nlp.lifting_maps(settings, sch)
+    comp = _load_compiled(settings, fns) if use_cache else {}
     return Solver(settings, body, method, fns, bounds(body, settings, sch),
                   bounds(body, settings, sch, dynamics=False),
                   bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
-                  time.perf_counter() - t0, hit)  # fmt: skip
+                  time.perf_counter() - t0, hit, comp)  # fmt: skip
 
 
 def _with_derivatives(prob: dict, opts: dict, plugin: str = "ipopt") -> tuple[dict, dict]:
@@ -236,3 +299,37 @@ def build_solver(
     (:mod:`walk3d.io.model_cache`); None (default) follows ``$WALK3D_CACHE`` (on unless ``0``).
     """
     return _build(settings, method, model_cache.cache_enabled(cache))
+
+
+def compiled_status(settings: PredictionSettings) -> dict:
+    """``{"compiled": [kinds], "missing": number of libraries still to compile}``."""
+    fns, _ = _model_functions(body_for(settings), settings, True)
+    kinds = [k for k in COMPILED_NODES if compiled.load_functions(
+        _compiled_key(fns, settings, k), _chunk_names(k)) is not None]  # fmt: skip
+    return {"compiled": kinds, "missing": 2 * CHUNKS * (len(COMPILED_NODES) - len(kinds))}
+
+
+def compile_solver(
+    settings: PredictionSettings,
+    on_done: Callable[[str, int, int], None] | None = None,
+    jobs: int | None = None,
+) -> dict:
+    """Compile the node derivatives of the balance and full NLPs to C and store them in the
+    cache (:mod:`walk3d.io.compiled`), unless already there; later :func:`build_solver` calls
+    load them. Minutes of compiling (about 3 per NLP at -O1 on 2 cores) for a solve about
+    twice as fast (docs/solver.md). ``on_done(name, done, total)`` after each library.
+    Returns ``{"compiled": number compiled now, "wall_time_s": ...}``; raises
+    :class:`walk3d.io.compiled.CompileError` when there is no compiler or it fails."""
+    t0 = time.perf_counter()
+    body = body_for(settings)
+    fns, _ = _model_functions(body, settings, True)
+    count = 0
+    for kind in COMPILED_NODES:
+        key = _compiled_key(fns, settings, kind)
+        if compiled.load_functions(key, _chunk_names(kind)) is not None:
+            continue
+        todo = _chunk_functions(settings, fns, kind)
+        compiled.compile_functions(key, todo, jobs, on_done)
+        count += len(todo)
+    _build.cache_clear()  # the next build_solver loads what was compiled
+    return {"compiled": count, "wall_time_s": time.perf_counter() - t0}

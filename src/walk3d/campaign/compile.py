@@ -1,0 +1,52 @@
+"""Compiling the solver's derivatives before a campaign (``walk3d compile``).
+
+Compiling takes minutes once per model (about 10 min at -O1 on 2 cores for the default 20
+nodes) and makes each solve about twice as fast (docs/solver.md, "Session 6"), so a campaign
+compiles first when it has enough starts to run (:data:`COMPILE_FROM_STARTS`). The libraries
+go to the model cache, where every worker process, and every later ``walk3d predict`` with the
+same model, finds them.
+"""
+
+from __future__ import annotations
+
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+from walk3d.cli.common import fail
+from walk3d.io import compiled
+from walk3d.problem.settings import PredictionSettings
+from walk3d.solve.solver import compile_solver, compiled_status
+
+COMPILE_FROM_STARTS = 30
+"""Starts to run from which a campaign compiles by default: a start takes 1-10 min, and
+compiling saves about half of it for the cost of about ten minutes on 2 cores, once."""
+
+
+def worth_compiling(starts: int) -> bool:
+    """Whether a campaign of ``starts`` starts to run compiles by default (a compiler found)."""
+    return starts >= COMPILE_FROM_STARTS and compiled.compiler() is not None
+
+
+def compile_with_progress(settings: PredictionSettings, console: Console) -> None:
+    """Compile (or find compiled) the derivatives of ``settings``, with a progress bar; a
+    missing or failing compiler ends the command with one line and exit code 2."""
+    missing = compiled_status(settings)["missing"]
+    if not missing:
+        console.print("walk3d compile: already compiled (model cache)")
+        return
+    columns = (TextColumn("compiling derivatives to C"), BarColumn(), MofNCompleteColumn(),
+               TimeElapsedColumn(), TextColumn("{task.description}"))  # fmt: skip
+    with Progress(*columns, console=console, transient=True) as bar:
+        task = bar.add_task("", total=missing)
+
+        def done(name: str, _i: int, _n: int) -> None:
+            bar.update(task, advance=1, description=name)
+
+        try:
+            info = compile_solver(settings, on_done=done)
+        except compiled.CompileError as exc:
+            fail(f"walk3d compile: {exc}")
+    console.print(
+        f"walk3d compile: {info['compiled']} libraries in {info['wall_time_s']:.0f} s, "
+        f"kept in {compiled.cache_dir()}"
+    )

@@ -1,0 +1,132 @@
+"""Compiled C versions of CasADi functions, kept in the model cache folder.
+
+CasADi generates C for an SX function (``Function.generate``); a C compiler turns it into a
+shared library, and ``casadi.external`` loads it back as a Function with the same inputs and
+outputs. Evaluated that way, the node derivative blocks of :func:`walk3d.problem.derivatives.
+derivative_chunks` ran 8.8x faster than in CasADi's SX virtual machine at -O1 and 4.6x at
+-O0, with equal values (docs/solver.md, "Session 6").
+
+An entry is one library per function, ``lib-<key>-<function name>.so`` in
+:func:`walk3d.io.model_cache.cache_dir`. It is compiled in a temporary folder next to it and
+moved into place with ``os.replace``, so a concurrent reader sees either no library or a whole
+one. A library that does not load counts as missing. Compiling is never implicit: it takes
+minutes (:func:`compile_functions`), and only :func:`walk3d.solve.solver.compile_solver`
+(``walk3d compile``, campaigns) asks for it.
+
+The compiler is ``$CC``, else ``cc`` or ``gcc`` on the ``PATH``; its flags are ``$WALK3D_CFLAGS``,
+else ``-O1``. Without a compiler the solver keeps CasADi's virtual machine (same results).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+import os
+import shlex
+import shutil
+import subprocess
+import tempfile
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import casadi as ca
+
+from walk3d.io.model_cache import cache_dir
+
+__all__ = ["CompileError", "compile_functions", "compiler", "flags", "load_functions"]
+
+ENV_CC = "CC"
+ENV_FLAGS = "WALK3D_CFLAGS"
+DEFAULT_FLAGS = ("-O1",)
+log = logging.getLogger(__name__)
+
+
+class CompileError(RuntimeError):
+    """The C compiler failed or is missing."""
+
+
+def compiler() -> list[str] | None:
+    """The C compiler command (``$CC``, else ``cc`` or ``gcc`` on the PATH), or None."""
+    env = os.environ.get(ENV_CC, "").strip()
+    if env:
+        cmd = shlex.split(env)
+        return cmd if shutil.which(cmd[0]) else None
+    for name in ("cc", "gcc"):
+        path = shutil.which(name)
+        if path:
+            return [path]
+    return None
+
+
+def flags() -> tuple[str, ...]:
+    """Optimization flags: ``$WALK3D_CFLAGS`` if set, else ``-O1``."""
+    env = os.environ.get(ENV_FLAGS)
+    return tuple(shlex.split(env)) if env is not None else DEFAULT_FLAGS
+
+
+def library_key(key: str, cflags: tuple[str, ...]) -> str:
+    """Entry key from ``key`` (what the functions are made of) and the compiler flags."""
+    return hashlib.sha256(f"{key} {' '.join(cflags)}".encode()).hexdigest()[:32]
+
+
+def _library(key: str, name: str) -> Path:
+    return cache_dir() / f"lib-{key}-{name}.so"
+
+
+def load_functions(key: str, names: list[str]) -> dict[str, ca.Function] | None:
+    """The compiled functions ``names`` stored under ``key``, or None unless all load."""
+    out = {}
+    for name in names:
+        path = _library(key, name)
+        if not path.is_file():
+            return None
+        try:
+            out[name] = ca.external(name, str(path))
+        except Exception as exc:  # noqa: BLE001 - an unloadable library is a missing one
+            log.warning("ignoring unloadable compiled function %s (%s)", path, exc)
+            return None
+    return out
+
+
+def _compile_one(fn: ca.Function, path: Path, cc: list[str], cflags: tuple[str, ...]) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=path.parent, prefix=".build-") as tmp:
+        gen = ca.CodeGenerator(f"{fn.name()}.c", {"with_header": False})
+        gen.add(fn)
+        c_file = Path(tmp) / f"{fn.name()}.c"
+        c_file.write_text(gen.dump(), encoding="utf-8")
+        lib = Path(tmp) / "lib.so"
+        cmd = [*cc, *cflags, "-fPIC", "-shared", str(c_file), "-o", str(lib), "-lm"]
+        run = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        if run.returncode != 0:
+            tail = run.stderr.strip().splitlines()[-1:] or ["no output"]
+            raise CompileError(f"{shlex.join(cmd[:1])} failed on {fn.name()}: {tail[0]}")
+        os.replace(lib, path)
+
+
+def compile_functions(
+    key: str,
+    functions: dict[str, ca.Function],
+    jobs: int | None = None,
+    on_done: Callable[[str, int, int], None] | None = None,
+) -> dict[str, ca.Function]:
+    """Compile the functions not yet stored under ``key`` (``jobs`` at a time, default one
+    per core) and load all of them. ``on_done(name, done, total)`` after each compile.
+    Raises :class:`CompileError` without a compiler or when one fails."""
+    cc = compiler()
+    if cc is None:
+        raise CompileError("no C compiler found (set $CC, or install gcc)")
+    cflags = flags()
+    todo = [n for n in functions if load_functions(key, [n]) is None]
+    with ThreadPoolExecutor(jobs or os.cpu_count() or 1) as pool:
+        futures = {n: pool.submit(_compile_one, functions[n], _library(key, n), cc, cflags)
+                   for n in todo}  # fmt: skip
+        for done, (name, fut) in enumerate(futures.items(), 1):
+            fut.result()
+            if on_done:
+                on_done(name, done, len(todo))
+    loaded = load_functions(key, list(functions))
+    if loaded is None:
+        raise CompileError(f"compiled functions for {key} did not load")
+    return loaded
