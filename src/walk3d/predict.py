@@ -22,6 +22,7 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "iterations": outcome.iterations,
         "wall_time_s": round(outcome.wall_time_s, 3),
         "stages": outcome.stages,
+        "compiled_derivatives": list(outcome.compiled_derivatives),
         "objective": ev.criteria,
         "objective_smoothed": ev.criteria_smoothed,
         "max_constraint_violation": outcome.max_constraint_violation,

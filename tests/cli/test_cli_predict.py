@@ -1,5 +1,7 @@
-"""walk3d predict: bad input is one line and exit code 2 (no solve is started)."""
+"""walk3d predict and walk3d compile: bad input is one line and exit code 2 (no solve or
+compile is started)."""
 
+import os
 import subprocess
 import sys
 
@@ -31,3 +33,18 @@ def test_bad_input_exits_2_with_one_line(tmp_path, args, word):
     assert len(lines) == 1 and word in lines[0], r.stderr
     assert "Traceback" not in r.stderr
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "env", "word"),
+    [(["--mass", "3"], {}, "mass"), (["--speed", "0"], {}, "speed"),
+     ([], {"CC": "/nonexistent/cc"}, "no C compiler")],
+)  # fmt: skip
+def test_compile_bad_input_or_no_compiler_exits_2(tmp_path, args, env, word):
+    cmd = [sys.executable, "-m", "walk3d.cli", "compile", *args]
+    run_env = os.environ | {"WALK3D_CACHE_DIR": str(tmp_path)} | env
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=60, env=run_env)
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and word in lines[0], r.stderr
+    assert not list(tmp_path.glob("lib-*"))

@@ -172,6 +172,10 @@ def predict(
     verdict = "yes" if s["converged"] else "NO - not a valid prediction"
     t.add_row("converged", f"{verdict} ({s['status']}, {s['iterations']} iterations)")
     t.add_row("wall time", f"{s['wall_time_s']:.1f} s")
+    if solver == "ipopt":
+        comp = s.get("compiled_derivatives") or []
+        t.add_row("derivatives", f"compiled C ({', '.join(comp)})" if comp else
+                  "CasADi VM (run `walk3d compile` once for faster solves)")  # fmt: skip
     for key in ("C_tor", "C_en"):
         c = s["objective"][key]
         t.add_row(key, f"{c['total']:.4g}  (x {c['x']:.3g}, y {c['y']:.3g}, z {c['z']:.3g})")
@@ -205,7 +209,7 @@ def compile_model(
         criterion, "ipopt", 0, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes,
     )  # fmt: skip
-    from walk3d.campaign.compile import compile_with_progress
+    from walk3d.cli.compile import compile_with_progress
 
     compile_with_progress(settings, console)
 
@@ -261,8 +265,8 @@ def campaign(
         mass=mass, height=height, sex=sex, nodes=nodes, max_iter=max_iter,
     )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign
-    from walk3d.campaign.compile import compile_with_progress, worth_compiling
     from walk3d.campaign.ranking import top_table
+    from walk3d.cli.compile import compile_with_progress, worth_compiling
 
     if solver == "ipopt" and (compile_c or (compile_c is None and worth_compiling(starts))):
         compile_with_progress(settings, console)

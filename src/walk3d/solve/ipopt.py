@@ -49,6 +49,8 @@ class SolveOutcome:
     stages: list[dict] = field(default_factory=list)
     solver: str = "ipopt"
     max_constraint_violation: float = float("nan")
+    compiled_derivatives: list[str] = field(default_factory=list)
+    """NLPs whose node derivatives ran as compiled C (``walk3d compile``), not in CasADi's VM."""
 
 
 def initial_guess(solver: Solver, seed: int) -> np.ndarray:
@@ -200,4 +202,5 @@ def solve(
         stages=stages,
         solver=method,
         max_constraint_violation=info2["max_constraint_violation"],
+        compiled_derivatives=sorted(solver.compiled) if method == "ipopt" else [],
     )

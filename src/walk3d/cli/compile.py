@@ -1,6 +1,6 @@
-"""Compiling the solver's derivatives before a campaign (``walk3d compile``).
+"""Compiling the solver's derivatives (``walk3d compile``, and before a large ``walk3d campaign``).
 
-Compiling takes minutes once per model (about 10 min at -O1 on 2 cores for the default 20
+Compiling takes minutes once per model (6.3 min at -O1 on 2 cores for the default 20
 nodes) and makes each solve about twice as fast (docs/solver.md, "Session 6"), so a campaign
 compiles first when it has enough starts to run (:data:`COMPILE_FROM_STARTS`). The libraries
 go to the model cache, where every worker process, and every later ``walk3d predict`` with the
@@ -19,7 +19,7 @@ from walk3d.solve.solver import compile_solver, compiled_status
 
 COMPILE_FROM_STARTS = 30
 """Starts to run from which a campaign compiles by default: a start takes 1-10 min, and
-compiling saves about half of it for the cost of about ten minutes on 2 cores, once."""
+compiling saves about half of it for about 6 minutes on 2 cores, once."""
 
 
 def worth_compiling(starts: int) -> bool:
@@ -30,6 +30,8 @@ def worth_compiling(starts: int) -> bool:
 def compile_with_progress(settings: PredictionSettings, console: Console) -> None:
     """Compile (or find compiled) the derivatives of ``settings``, with a progress bar; a
     missing or failing compiler ends the command with one line and exit code 2."""
+    if compiled.compiler() is None:
+        fail("walk3d compile: no C compiler found (set $CC, or install gcc)")
     missing = compiled_status(settings)["missing"]
     if not missing:
         console.print("walk3d compile: already compiled (model cache)")
