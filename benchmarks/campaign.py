@@ -32,9 +32,12 @@ def main(argv: list[str] | None = None) -> int:
 
     from walk3d.campaign import run_campaign
     from walk3d.problem.settings import PredictionSettings
+    from walk3d.solve.solver import compiled_status
 
     extra = {} if args.max_iter is None else {"max_iter": args.max_iter}
     settings = PredictionSettings(criterion=args.criterion, nodes=args.nodes, **extra)
+    compiled = compiled_status(settings)["compiled"]
+    print(f"compiled derivatives in the cache: {', '.join(compiled) or 'none'} (walk3d compile)")
     runs = []
     for workers in (int(w) for w in args.workers.split(",")):
         with tempfile.TemporaryDirectory(prefix="walk3d-campaign-bench-") as tmp:
@@ -61,7 +64,8 @@ def main(argv: list[str] | None = None) -> int:
               f"{runs[-1]['starts_per_minute'] / runs[0]['starts_per_minute']:.2f}x")  # fmt: skip
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    report_json = {"settings": settings.model_dump(), "cpu_count": os.cpu_count(), "runs": runs}
+    report_json = {"settings": settings.model_dump(), "cpu_count": os.cpu_count(),
+                   "compiled_derivatives": compiled, "runs": runs}  # fmt: skip
     out.write_text(json.dumps(report_json, indent=2) + "\n")
     print(f"written {out}")
     return 0
