@@ -68,6 +68,11 @@ def test_the_sqp_method_builds_its_stages_with_casadis_own_derivatives():
         ({"balance_max_iter": 400}, ["balance_direct", "full", "posture", "balance", "full"]),
         # the balance stage from standing fails: posture fallback, and no second retry
         ({"balance_max_iter": 3}, ["balance_direct", "posture", "balance", "full"]),
+        # the balance stage from standing is stopped by the progress check: posture fallback
+        (
+            {"balance_max_iter": 400, "balance_progress_check": (2, 1e-12)},
+            ["balance_direct", "posture", "balance", "full"],
+        ),
         ({"posture_stage": "first"}, ["posture", "balance", "full"]),
         ({"posture_stage": "off", "balance_max_iter": 400}, ["balance", "full"]),
     ],
@@ -77,5 +82,8 @@ def test_stage_sequence_of_the_posture_fallback(update, expected):
     assert [st["stage"] for st in outcome.stages] == expected
     if expected[:2] == ["balance_direct", "full"]:  # the retry follows a converged first stage
         assert outcome.stages[0]["status"] in ipopt.IPOPT_SUCCESS
+    if update.get("balance_progress_check"):  # stopped right at the check's iteration
+        assert outcome.stages[0]["status"] == "User_Requested_Stop"
+        assert outcome.stages[0]["iterations"] == 2
     assert not outcome.converged and outcome.status == outcome.stages[-1]["status"]
     assert outcome.iterations == sum(st["iterations"] for st in outcome.stages)

@@ -63,6 +63,14 @@ class PredictionSettings(BaseModel):
     """Iteration limit of the balance stage started straight from standing before the posture
     fallback (it converged in 102–285 iterations when it converged; 600 did not lead more
     starts to walking)."""
+    balance_progress_check: tuple[int, float] | None = (80, 0.1)
+    """``(iteration, violation)``: the balance stage started straight from standing is stopped
+    (and the posture fallback taken) if at that iteration its largest constraint violation is
+    still above that value. None: only ``balance_max_iter`` stops it. Why: in the 20-start
+    benchmark 16 of 20 starts ran this stage to its 250-iteration limit (about 20 s each)
+    before the fallback; at iteration 80 those had violations of 0.7-14, while the starts
+    whose stage converged by 110 iterations (seeds 0, 10, 15) were at 8e-5-0.03
+    (docs/solver.md, "Session 6")."""
     arm_walking_ranges: bool = True
     """Narrow shoulder and elbow ranges to those of walking (walk3d.problem.ranges)."""
     threads: int = 1
@@ -127,6 +135,12 @@ class PredictionSettings(BaseModel):
                 f"free-moment radius must be in [0, 0.1] m, got {self.free_moment_radius}",
             ),
             (0 < self.smoothing < 0.1, f"smoothing must be in (0, 0.1), got {self.smoothing}"),
+            (
+                self.balance_progress_check is None
+                or (self.balance_progress_check[0] >= 1 and self.balance_progress_check[1] > 0),
+                "balance progress check must be (iteration >= 1, violation > 0) or None, "
+                f"got {self.balance_progress_check}",
+            ),
         ]
         checks.append(
             (

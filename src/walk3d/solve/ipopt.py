@@ -25,7 +25,7 @@ import numpy as np
 from walk3d.problem import layout, nlp
 from walk3d.problem.bounds import Bounds
 from walk3d.problem.settings import PredictionSettings
-from walk3d.solve.progress import Listener
+from walk3d.solve.progress import Listener, StopRule
 from walk3d.solve.solver import Solver, build_solver
 
 __all__ = ["IPOPT_SUCCESS", "SolveOutcome", "Solver", "build_solver", "full_stage_start",
@@ -109,9 +109,10 @@ def _run(
     name: str,
     b: Bounds,
     listener: Listener | None = None,
+    stop: StopRule | None = None,
 ):
     t0 = time.perf_counter()
-    with solver.reporter.listening(listener, b.lbg, b.ubg):
+    with solver.reporter.listening(listener, b.lbg, b.ubg, stop):
         sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
     stats = fn.stats()
     g = np.array(sol["g"]).ravel()
@@ -157,8 +158,17 @@ def solve(
     z_stand = initial_guess(solver, seed)
     stages: list[dict] = []
 
+    check = settings.balance_progress_check
+
+    def stop_rule(name: str) -> StopRule | None:
+        """The direct balance stage stops early if it is still far from feasible."""
+        if name != "balance_direct" or check is None:
+            return None
+        return lambda it, _f, viol: it == check[0] and viol > check[1]
+
     def run(name: str, z0: np.ndarray, bounds: Bounds, label: str) -> tuple[np.ndarray, dict]:
-        z, info = _run(solver.stage(name), solver, z0, name, bounds, progress(label))
+        z, info = _run(solver.stage(name), solver, z0, name, bounds, progress(label),
+                       stop_rule(name))  # fmt: skip
         stages.append(info)
         return z, info
 

@@ -2,8 +2,9 @@
 
 A stage solver is built once per settings and shared by every solve in a process, so the
 callback object is too; a solve points it at its own listener for as long as it runs
-(:meth:`IterationReporter.listening`). Without a listener the callback does nothing and
-returns 0 (go on). IPOPT's iterates do not depend on it.
+(:meth:`IterationReporter.listening`). Without a listener or stop rule the callback does
+nothing and returns 0 (go on). IPOPT's iterates do not depend on it, except where a stop rule
+ends a stage.
 """
 
 from __future__ import annotations
@@ -16,6 +17,9 @@ import numpy as np
 
 Listener = Callable[[int, float, float], None]
 """``listener(iteration, objective, max_constraint_violation)``."""
+StopRule = Callable[[int, float, float], bool]
+"""``stop(iteration, objective, max_constraint_violation)``: True stops IPOPT there (status
+``User_Requested_Stop``)."""
 
 
 class IterationReporter(ca.Callback):
@@ -28,6 +32,7 @@ class IterationReporter(ca.Callback):
         ca.Callback.__init__(self)
         self._n = {"x": n_x, "lam_x": n_x, "g": n_g, "lam_g": n_g, "f": 1}
         self._listener: Listener | None = None
+        self._stop: StopRule | None = None
         self._bounds: tuple[np.ndarray, np.ndarray] | None = None
         self.iteration = 0
         self.construct(name, {})
@@ -49,21 +54,31 @@ class IterationReporter(ca.Callback):
         return ca.Sparsity.dense(n, 1) if n else ca.Sparsity(0, 0)
 
     def eval(self, arg: list) -> list:
-        if self._listener is not None:
+        stop = False
+        if self._listener is not None or self._stop is not None:
             g = np.array(arg[2]).ravel()
             lo, hi = self._bounds if self._bounds is not None else (g, g)
             viol = float(max(np.max(lo - g, initial=0.0), np.max(g - hi, initial=0.0)))
-            self._listener(self.iteration, float(arg[1]), viol)
+            if self._listener is not None:
+                self._listener(self.iteration, float(arg[1]), viol)
+            if self._stop is not None:
+                stop = bool(self._stop(self.iteration, float(arg[1]), viol))
         self.iteration += 1
-        return [0]
+        return [1 if stop else 0]
 
     @contextlib.contextmanager
     def listening(
-        self, listener: Listener | None, lbg: np.ndarray, ubg: np.ndarray
+        self,
+        listener: Listener | None,
+        lbg: np.ndarray,
+        ubg: np.ndarray,
+        stop: StopRule | None = None,
     ) -> Iterator[None]:
-        """Report the iterations of the stage run inside this block to ``listener``."""
-        self._listener, self._bounds, self.iteration = listener, (lbg, ubg), 0
+        """Report the iterations of the stage run inside this block to ``listener``, and stop
+        it where ``stop`` says so."""
+        self._listener, self._stop, self._bounds = listener, stop, (lbg, ubg)
+        self.iteration = 0
         try:
             yield
         finally:
-            self._listener, self._bounds = None, None
+            self._listener, self._stop, self._bounds = None, None, None

@@ -184,7 +184,8 @@ def _ipopt_options(settings: PredictionSettings) -> dict:
 
 RUNTIME_FIELDS = frozenset({
     "nodes", "threads", "derivatives", "range_oversampling", "loop_checks", "loop_check_toe_off",
-    "loop_check_tolerance", "posture_stage", "balance_max_iter", "perturbation", "max_iter", "tol",
+    "loop_check_tolerance", "posture_stage", "balance_max_iter", "balance_progress_check",
+    "perturbation", "max_iter", "tol",
 })  # fmt: skip
 """Settings that :func:`walk3d.problem.nlp.model_functions` does not read (they shape the NLP
 around the node functions, the solver options or the start), so they are left out of the
