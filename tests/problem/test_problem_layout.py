@@ -88,6 +88,8 @@ def test_axis_split_sums_to_total():
         ({"speed": float("nan")}, "finite"),
         ({"mass": 5.0}, "mass"),
         ({"height": 3.5}, "height"),
+        ({"balance_progress_check": (0, 0.1)}, "balance progress check"),
+        ({"balance_progress_check": (80, -1.0)}, "balance progress check"),
     ],
 )
 def test_bad_settings_give_one_clear_message(kwargs, words):
