@@ -30,8 +30,10 @@ def worth_compiling(starts: int) -> bool:
 def compile_with_progress(settings: PredictionSettings, console: Console) -> None:
     """Compile (or find compiled) the derivatives of ``settings``, with a progress bar; a
     missing or failing compiler ends the command with one line and exit code 2."""
-    if compiled.compiler() is None:
-        fail("walk3d compile: no C compiler found (set $CC, or install gcc)")
+    try:
+        compiled.require_compiler()  # before any model work
+    except compiled.CompileError as exc:
+        fail(f"walk3d compile: {exc}")
     missing = compiled_status(settings)["missing"]
     if not missing:
         console.print("walk3d compile: already compiled (model cache)")

@@ -34,7 +34,8 @@ import casadi as ca
 
 from walk3d.io.model_cache import cache_dir
 
-__all__ = ["CompileError", "compile_functions", "compiler", "flags", "load_functions"]
+__all__ = ["CompileError", "compile_functions", "compiler", "flags", "load_functions",
+           "require_compiler"]  # fmt: skip
 
 ENV_CC = "CC"
 ENV_FLAGS = "WALK3D_CFLAGS"
@@ -57,6 +58,14 @@ def compiler() -> list[str] | None:
         if path:
             return [path]
     return None
+
+
+def require_compiler() -> list[str]:
+    """:func:`compiler`, or :class:`CompileError` if there is none."""
+    cc = compiler()
+    if cc is None:
+        raise CompileError("no C compiler found (set $CC, or install gcc)")
+    return cc
 
 
 def flags() -> tuple[str, ...]:
@@ -114,9 +123,7 @@ def compile_functions(
     """Compile the functions not yet stored under ``key`` (``jobs`` at a time, default one
     per core) and load all of them. ``on_done(name, done, total)`` after each compile.
     Raises :class:`CompileError` without a compiler or when one fails."""
-    cc = compiler()
-    if cc is None:
-        raise CompileError("no C compiler found (set $CC, or install gcc)")
+    cc = require_compiler()
     cflags = flags()
     todo = [n for n in functions if load_functions(key, [n]) is None]
     with ThreadPoolExecutor(jobs or os.cpu_count() or 1) as pool:

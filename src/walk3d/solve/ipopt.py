@@ -25,7 +25,7 @@ import numpy as np
 from walk3d.problem import layout, nlp
 from walk3d.problem.bounds import Bounds
 from walk3d.problem.settings import PredictionSettings
-from walk3d.solve.progress import Listener, StopRule
+from walk3d.solve.progress import Listener, StopRule, bound_violation
 from walk3d.solve.solver import Solver, build_solver
 
 __all__ = ["IPOPT_SUCCESS", "SolveOutcome", "Solver", "build_solver", "full_stage_start",
@@ -115,10 +115,9 @@ def _run(
     with solver.reporter.listening(listener, b.lbg, b.ubg, stop):
         sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
     stats = fn.stats()
-    g = np.array(sol["g"]).ravel()
-    viol = float(max(np.max(b.lbg - g, initial=0.0), np.max(g - b.ubg, initial=0.0)))
     zz = np.array(sol["x"]).ravel()
-    viol = max(viol, float(np.max(b.lbz - zz, initial=0.0)), float(np.max(zz - b.ubz, initial=0.0)))
+    viol = max(bound_violation(np.array(sol["g"]).ravel(), b.lbg, b.ubg),
+               bound_violation(zz, b.lbz, b.ubz))  # fmt: skip
     info = {
         "max_constraint_violation": viol,
         "stage": name,
@@ -212,5 +211,5 @@ def solve(
         stages=stages,
         solver=method,
         max_constraint_violation=info2["max_constraint_violation"],
-        compiled_derivatives=sorted(solver.compiled) if method == "ipopt" else [],
+        compiled_derivatives=sorted(solver.compiled),
     )

@@ -22,6 +22,11 @@ StopRule = Callable[[int, float, float], bool]
 ``User_Requested_Stop``)."""
 
 
+def bound_violation(v: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """Largest violation of ``lo <= v <= hi`` (0 when inside)."""
+    return float(max(np.max(lo - v, initial=0.0), np.max(v - hi, initial=0.0)))
+
+
 class IterationReporter(ca.Callback):
     """CasADi callback with the inputs of ``nlpsol``'s outputs (x, f, g, lam_x, lam_g, lam_p).
 
@@ -58,7 +63,7 @@ class IterationReporter(ca.Callback):
         if self._listener is not None or self._stop is not None:
             g = np.array(arg[2]).ravel()
             lo, hi = self._bounds if self._bounds is not None else (g, g)
-            viol = float(max(np.max(lo - g, initial=0.0), np.max(g - hi, initial=0.0)))
+            viol = bound_violation(g, lo, hi)
             if self._listener is not None:
                 self._listener(self.iteration, float(arg[1]), viol)
             if self._stop is not None:

@@ -262,7 +262,8 @@ def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool 
     fns, hit = _model_functions(body, settings, use_cache)
     sch = schedule(settings)
     lift = nlp.lifting_maps(settings, sch)
-    comp = _load_compiled(settings, fns) if use_cache else {}
+    # only IPOPT takes the structured derivatives (_with_derivatives): sqp needs no libraries
+    comp = _load_compiled(settings, fns) if use_cache and method == "ipopt" else {}
     return Solver(settings, body, method, fns, bounds(body, settings, sch),
                   bounds(body, settings, sch, dynamics=False),
                   bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
