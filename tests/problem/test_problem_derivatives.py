@@ -95,3 +95,38 @@ def test_column_blocks_equal_the_node_derivatives(dynamics, criterion):
                                atol=1e-10 * np.abs(h_nlp).max())  # fmt: skip
     np.testing.assert_allclose(_dense(d["jac_g"](z0, [])[1]), _dense(ref_jac(z0)), rtol=0,
                                atol=1e-11)  # fmt: skip
+
+
+def test_selected_rows_keep_their_values_and_derivatives():
+    """select_rows: a stage sees only the bounded rows; the values, Jacobian rows and the
+    Hessian (free rows' multipliers are zero) are those of the whole NLP."""
+    from walk3d.problem.bounds import bounds
+    from walk3d.problem.schedule import schedule
+    from walk3d.solve.solver import bounded_rows
+
+    s = PredictionSettings(nodes=6)
+    body = body_for(s)
+    prob, _, _ = nlp.build_nlp(body, s, dynamics=True, balance=True)
+    b = bounds(body, s, schedule(s))
+    rows = bounded_rows(b)
+    free = np.setdiff1d(np.arange(b.lbg.size), rows)
+    assert free.size > 0 and np.all(~np.isfinite(b.lbg[free]) & ~np.isfinite(b.ubg[free]))
+    sub = derivatives.select_rows(prob, rows)
+    assert sub["g"].numel() == rows.size and sub["x"] is prob["x"]
+    rng = np.random.default_rng(4)
+    z0 = rng.uniform(-0.1, 0.1, prob["x"].numel())
+    z0[nlp.layout.N_X :] += rng.uniform(0.0, 0.3, z0.size - nlp.layout.N_X)
+    full, part = prob["derivatives"], sub["derivatives"]
+    g_all, j_all = full["jac_g"](z0, [])
+    g_sub, j_sub = part["jac_g"](z0, [])
+    np.testing.assert_array_equal(np.array(g_sub).ravel(), np.array(g_all).ravel()[rows])
+    np.testing.assert_array_equal(_dense(j_sub), _dense(j_all)[rows])
+    lam = rng.normal(size=rows.size)
+    lam_all = np.zeros(b.lbg.size)
+    lam_all[rows] = lam
+    h_ref = _dense(full["hess_lag"](z0, [], 0.7, lam_all))
+    assert np.abs(h_ref).max() > 1.0
+    np.testing.assert_allclose(_dense(part["hess_lag"](z0, [], 0.7, lam)), h_ref, rtol=0,
+                               atol=1e-14 * np.abs(h_ref).max())  # fmt: skip
+    g_expr = ca.Function("g", [sub["x"]], [sub["g"]])(z0)
+    np.testing.assert_array_equal(np.array(g_expr).ravel(), np.array(g_all).ravel()[rows])

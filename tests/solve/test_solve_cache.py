@@ -45,7 +45,7 @@ def test_solver_from_cache_equals_a_fresh_one(cache_dir):
     np.testing.assert_array_equal(z0, ipopt.initial_guess(cached, 0))
     # the full NLP's values and derivatives (the custom grad_f, jac_g, hess_lag) at one point
     z = ipopt.full_stage_start(fresh, z0)
-    lam = np.random.default_rng(1).normal(size=fresh.bounds.lbg.size)
+    lam = np.random.default_rng(1).normal(size=fresh.stage_bounds("full").lbg.size)
     for name, args in [("nlp_f", [z, []]), ("nlp_g", [z, []]), ("nlp_jac_g", [z, []]),
                        ("nlp_grad_f", [z, []]), ("nlp_hess_l", [z, [], 0.7, lam])]:  # fmt: skip
         a = fresh.full.get_function(name)(*args)
@@ -55,12 +55,13 @@ def test_solver_from_cache_equals_a_fresh_one(cache_dir):
             assert u.sparsity() == v.sparsity(), name
             np.testing.assert_array_equal(np.array(u.nonzeros()), np.array(v.nonzeros()), name)
     # a few IPOPT iterations take the same steps
-    for stage, b in [("balance", fresh.bounds_balance), ("posture", fresh.bounds_posture)]:
+    for stage in ("balance", "posture"):
+        b = fresh.stage_bounds(stage)
         x_fresh = _run(getattr(fresh, stage), z0, b)
         np.testing.assert_array_equal(x_fresh, _run(getattr(cached, stage), z0, b), stage)
     zf = ipopt.full_stage_start(fresh, z0)
-    np.testing.assert_array_equal(_run(fresh.full, zf, fresh.bounds),
-                                  _run(cached.full, zf, cached.bounds))  # fmt: skip
+    np.testing.assert_array_equal(_run(fresh.full, zf, fresh.stage_bounds("full")),
+                                  _run(cached.full, zf, cached.stage_bounds("full")))  # fmt: skip
 
 
 def test_a_damaged_entry_is_rebuilt_and_rewritten(cache_dir, caplog, recorded):

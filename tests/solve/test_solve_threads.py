@@ -14,13 +14,13 @@ def test_threads_give_identical_iterates():
     two = ipopt.build_solver(SETTINGS.model_copy(update={"threads": 2}))
     z0 = ipopt.initial_guess(one, 3)
     np.testing.assert_array_equal(z0, ipopt.initial_guess(two, 3))
-    za, ia = ipopt._run(one.balance, one, z0, "balance", one.bounds_balance)
-    zb, ib = ipopt._run(two.balance, two, z0, "balance", two.bounds_balance)
+    za, ia = ipopt._run(one.balance, one, z0, "balance")
+    zb, ib = ipopt._run(two.balance, two, z0, "balance")
     assert ia["iterations"] == ib["iterations"] == 4
     assert np.abs(za - z0).max() > 1e-6  # the solver moved
     np.testing.assert_array_equal(za, zb)
     # the full stage (joint moments, slacks) too
     start = ipopt.full_stage_start(one, za)
-    fa, _ = ipopt._run(one.full, one, start, "full", one.bounds)
-    fb, _ = ipopt._run(two.full, two, start, "full", two.bounds)
+    fa, _ = ipopt._run(one.full, one, start, "full")
+    fb, _ = ipopt._run(two.full, two, start, "full")
     np.testing.assert_array_equal(fa, fb)

@@ -268,3 +268,40 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
         "hess_lag": ca.Function("hess_lag", [z, p, lam_f, lam_g], [hess.build()],
                                 ["x", "p", "lam_f", "lam_g"], ["triu_hess_gamma_x_x"]),
     }  # fmt: skip
+
+
+def select_rows(prob: dict, rows: np.ndarray) -> dict:
+    """The NLP dict ``prob`` (``x, f, g`` and maybe ``derivatives``) with only the constraint
+    rows ``rows`` (indices into ``g``, increasing).
+
+    Why: a solver stage passes IPOPT only the rows that some bound applies to. The node
+    function gives every row at every node, but many rows are bounded only at some nodes
+    (the closed loop in double support, the heel-strike wrench at node 0, the second foot's
+    force in double support...): 513 of the full stage's 3592 rows and 1545 of the balance
+    stage's are free. IPOPT keeps a free row as an inequality with a free slack, so it still
+    enlarges the KKT system and its linearization residual counts as infeasibility. Without
+    them the linear algebra took 21 % (balance) to 37 % (full) less time per iteration, the
+    balance stage of seed 0 took the same iterations (108, 109) to the same optimum
+    (docs/solver.md, "Session 7"). Their multipliers are zero at any KKT point, so the
+    Hessian gets zeros in their place."""
+    rows = np.asarray(rows, dtype=int)
+    x, g = prob["x"], prob["g"]
+    n_g = g.numel()
+    out = {"x": x, "f": prob["f"], "g": g[rows.tolist()]}
+    if "derivatives" in prob:
+        d = prob["derivatives"]
+        x = ca.MX.sym("x", x.sparsity())  # the functions' own input (``prob["x"]`` is a vertcat)
+        p = ca.MX.sym("p", 0)
+        lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", rows.size)
+        g_rows, jac = d["jac_g"](x, p)
+        spread = ca.DM(ca.Sparsity.triplet(n_g, rows.size, rows.tolist(),
+                                           list(range(rows.size))), 1.0)  # fmt: skip
+        hess = d["hess_lag"](x, p, lam_f, ca.mtimes(spread, lam_g))
+        out["derivatives"] = {
+            "grad_f": d["grad_f"],
+            "jac_g": ca.Function("jac_g", [x, p], [g_rows[rows.tolist()], jac[rows.tolist(), :]],
+                                 ["x", "p"], ["g", "jac_g_x"]),
+            "hess_lag": ca.Function("hess_lag", [x, p, lam_f, lam_g], [hess],
+                                    ["x", "p", "lam_f", "lam_g"], ["triu_hess_gamma_x_x"]),
+        }  # fmt: skip
+    return out

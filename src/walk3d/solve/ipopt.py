@@ -23,7 +23,6 @@ import casadi as ca
 import numpy as np
 
 from walk3d.problem import layout, nlp
-from walk3d.problem.bounds import Bounds
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.progress import Listener, StopRule, bound_violation
 from walk3d.solve.solver import Solver, build_solver
@@ -107,12 +106,13 @@ def _run(
     solver: Solver,
     z0: np.ndarray,
     name: str,
-    b: Bounds,
     listener: Listener | None = None,
     stop: StopRule | None = None,
 ):
+    """Run stage ``name``'s solver ``fn`` from ``z0`` within the stage's bounds."""
+    b = solver.stage_bounds(name)
     t0 = time.perf_counter()
-    with solver.reporter.listening(listener, b.lbg, b.ubg, stop):
+    with solver.reporter(name).listening(listener, b.lbg, b.ubg, stop):
         sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
     stats = fn.stats()
     zz = np.array(sol["x"]).ravel()
@@ -165,23 +165,22 @@ def solve(
             return None
         return lambda it, _f, viol: it == check[0] and viol > check[1]
 
-    def run(name: str, z0: np.ndarray, bounds: Bounds, label: str) -> tuple[np.ndarray, dict]:
-        z, info = _run(solver.stage(name), solver, z0, name, bounds, progress(label),
-                       stop_rule(name))  # fmt: skip
+    def run(name: str, z0: np.ndarray, label: str) -> tuple[np.ndarray, dict]:
+        z, info = _run(solver.stage(name), solver, z0, name, progress(label), stop_rule(name))
         stages.append(info)
         return z, info
 
     def through_posture() -> tuple[np.ndarray, dict]:
         note("stage 0: walking posture (geometry only)")
-        z, _ = run("posture", z_stand, solver.bounds_posture, "stage 0 (posture)")
+        z, _ = run("posture", z_stand, "stage 0 (posture)")
         note("stage 1/2: balance, from the walking posture")
-        return run("balance", z, solver.bounds_balance, "stage 1/2 (balance)")
+        return run("balance", z, "stage 1/2 (balance)")
 
     crit = f"C_{settings.criterion}"
 
     def full(z: np.ndarray) -> tuple[np.ndarray, dict]:
         note(f"stage 2/2: minimizing {crit}")
-        return run("full", full_stage_start(solver, z), solver.bounds, f"stage 2/2 ({crit})")
+        return run("full", full_stage_start(solver, z), f"stage 2/2 ({crit})")
 
     fallback = settings.posture_stage == "fallback"
     if settings.posture_stage == "first":
@@ -191,7 +190,7 @@ def solve(
         solver.stage(name)
         solver.prepare("full")  # built while the balance stage solves
         note("stage 1/2: balance (walking posture, total reaction under the feet)")
-        z, info1 = run(name, z_stand, solver.bounds_balance, "stage 1/2 (balance)")
+        z, info1 = run(name, z_stand, "stage 1/2 (balance)")
     retry = fallback  # one retry through the posture stage, unless the fallback used it
     if fallback and info1["status"] not in IPOPT_SUCCESS:
         z, info1 = through_posture()

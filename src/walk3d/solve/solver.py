@@ -9,12 +9,12 @@ process (:mod:`walk3d.io.model_cache`). docs/solver.md has the measurements.
 
 from __future__ import annotations
 
+import inspect
 import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cache
-from pathlib import Path
 
 import casadi as ca
 import numpy as np
@@ -77,16 +77,35 @@ class Solver:
     the cache at build time; :func:`compile_solver` makes them)."""
     stage_build_s: dict[str, float] = field(default_factory=dict, repr=False)
     """Seconds spent building each NLP and stage solver so far, by name."""
-    reporter: IterationReporter = field(init=False, repr=False)
-    """IPOPT's per-iteration callback, shared by the stage solvers (:mod:`.progress`)."""
+    reporters: dict[str, IterationReporter] = field(init=False, repr=False)
+    """IPOPT's per-iteration callbacks by NLP kind, shared by its stages (:mod:`.progress`)."""
     _built: dict[str, object] = field(default_factory=dict, repr=False)
     _locks: dict[str, threading.Lock] = field(
         default_factory=lambda: {k: threading.Lock() for k in _LOCK_KEYS}, repr=False
     )
 
     def __post_init__(self) -> None:
-        n_x, n_g = self.bounds.lbz.size, self.bounds.lbg.size
-        object.__setattr__(self, "reporter", IterationReporter("walk3d_progress", n_x, n_g))
+        reporters = {}
+        for kind in nlp.STAGES:
+            b = self.stage_bounds(kind)
+            reporters[kind] = IterationReporter(f"walk3d_progress_{kind}", b.lbz.size, b.lbg.size)
+        object.__setattr__(self, "reporters", reporters)
+
+    def nlp_bounds(self, kind: str) -> Bounds:
+        """The bounds of NLP ``kind`` (posture, balance, full) on all its rows."""
+        return {"posture": self.bounds_posture, "balance": self.bounds_balance,
+                "full": self.bounds}[kind]  # fmt: skip
+
+    def stage_bounds(self, name: str) -> Bounds:
+        """The bounds that stage ``name``'s solver takes: those of its NLP, on the rows it
+        keeps (:func:`bounded_rows`); ``g`` in the stage's solution has these rows."""
+        b = self.nlp_bounds(STAGE_PROBLEMS[name])
+        rows = bounded_rows(b)
+        return Bounds(b.lbz, b.ubz, b.lbg[rows], b.ubg[rows])
+
+    def reporter(self, name: str) -> IterationReporter:
+        """The per-iteration callback of stage ``name``'s solver (:mod:`.progress`)."""
+        return self.reporters[STAGE_PROBLEMS[name]]
 
     def _problem(self, kind: str) -> dict:
         """The NLP dict of ``kind`` (posture, balance, full) with its derivative functions."""
@@ -106,7 +125,9 @@ class Solver:
         """The solver of stage ``name`` (:data:`STAGE_PROBLEMS`), built on first use."""
         with self._locks[name]:
             if name not in self._built:
-                prob = self._problem(STAGE_PROBLEMS[name])
+                kind = STAGE_PROBLEMS[name]
+                rows = bounded_rows(self.nlp_bounds(kind))
+                prob = derivatives.select_rows(self._problem(kind), rows)
                 t0 = time.perf_counter()
                 if self.method == "ipopt":
                     opts = _ipopt_options(self.settings)
@@ -115,7 +136,7 @@ class Solver:
                     plugin = "ipopt"
                 else:
                     opts, plugin = _sqp_options(self.settings), "sqpmethod"
-                opts["iteration_callback"] = self.reporter
+                opts["iteration_callback"] = self.reporter(name)
                 fn = ca.nlpsol(f"walk3d_{name}", plugin, *_with_derivatives(prob, opts, plugin))
                 self._built[name] = fn
                 self.stage_build_s[name] = time.perf_counter() - t0
@@ -216,9 +237,12 @@ def _compiled_key(fns: dict[str, ca.Function], settings: PredictionSettings, kin
     """Key of ``kind``'s compiled blocks: what they are made of (the node function itself,
     serialized, the criterion, the blocks, the code that makes them, CasADi) and the compiler
     flags. Not the model key: that changes with any edit of walk3d's source, and a compile
-    takes minutes."""
+    takes minutes. The code is the source of the two functions that build the blocks, not
+    their whole module, so that other edits there keep the libraries."""
+    code = [inspect.getsource(f) for f in (derivatives.derivative_chunks,
+                                           derivatives._node_symbols)]  # fmt: skip
     made_of = (fns[COMPILED_NODES[kind]].serialize(), _crit(settings), CHUNKS, ca.__version__,
-               Path(derivatives.__file__).read_bytes())  # fmt: skip
+               *code)  # fmt: skip
     return compiled.library_key(repr(made_of), compiled.flags())
 
 
@@ -268,6 +292,12 @@ def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool 
                   bounds(body, settings, sch, dynamics=False),
                   bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
                   time.perf_counter() - t0, hit, comp)  # fmt: skip
+
+
+def bounded_rows(b: Bounds) -> np.ndarray:
+    """The constraint rows with a finite bound: the only ones a stage solver sees
+    (:func:`walk3d.problem.derivatives.select_rows` says why)."""
+    return np.flatnonzero(np.isfinite(b.lbg) | np.isfinite(b.ubg))
 
 
 def _with_derivatives(prob: dict, opts: dict, plugin: str = "ipopt") -> tuple[dict, dict]:
