@@ -84,17 +84,27 @@ def test_column_blocks_equal_the_node_derivatives(dynamics, criterion):
                                atol=1e-12 * np.abs(h_ref).max())  # fmt: skip
     np.testing.assert_allclose(_dense(jac_b(v, p)), _dense(jac(v, p)), rtol=0, atol=1e-12)
 
-    prob, _, _ = nlp.build_nlp(body_for(s), s, dynamics=dynamics, balance=True,
-                               node_derivs=(jac_b, grad, hess_b))  # fmt: skip
-    d = prob["derivatives"]
-    ref_jac, _, ref_hess = _reference(prob)
-    z0 = rng.uniform(-0.1, 0.1, prob["x"].numel())
-    lam_g = rng.normal(size=prob["g"].numel())
-    h_nlp = _dense(ref_hess(z0, 0.7, lam_g))
-    np.testing.assert_allclose(_dense(d["hess_lag"](z0, [], 0.7, lam_g)), h_nlp, rtol=0,
-                               atol=1e-10 * np.abs(h_nlp).max())  # fmt: skip
-    np.testing.assert_allclose(_dense(d["jac_g"](z0, [])[1]), _dense(ref_jac(z0)), rtol=0,
-                               atol=1e-11)  # fmt: skip
+    # the mapped Hessian block by block (map_blocks) is assemble(...).map(...) bit for bit
+    vs = rng.uniform(-0.1, 0.1, (derivatives.N_V, 3))
+    ps, lams = np.tile(p[:, None], (1, 3)), rng.normal(size=(lam.size, 3))
+    sfs = np.array([[0.7, 0.2, 1.0]])
+    np.testing.assert_array_equal(
+        _dense(derivatives.map_blocks(blocks["hess"], 3, 2)(vs, ps, sfs, lams)),
+        _dense(hess_b.map(3)(vs, ps, sfs, lams)),
+    )
+
+    for hess_arg in (hess_b, blocks["hess"]):  # assembled, or the blocks themselves
+        prob, _, _ = nlp.build_nlp(body_for(s), s, dynamics=dynamics, balance=True,
+                                   node_derivs=(jac_b, grad, hess_arg))  # fmt: skip
+        d = prob["derivatives"]
+        ref_jac, _, ref_hess = _reference(prob)
+        z0 = rng.uniform(-0.1, 0.1, prob["x"].numel())
+        lam_g = rng.normal(size=prob["g"].numel())
+        h_nlp = _dense(ref_hess(z0, 0.7, lam_g))
+        np.testing.assert_allclose(_dense(d["hess_lag"](z0, [], 0.7, lam_g)), h_nlp, rtol=0,
+                                   atol=1e-10 * np.abs(h_nlp).max())  # fmt: skip
+        np.testing.assert_allclose(_dense(d["jac_g"](z0, [])[1]), _dense(ref_jac(z0)), rtol=0,
+                                   atol=1e-11)  # fmt: skip
 
 
 def test_selected_rows_keep_their_values_and_derivatives():

@@ -31,7 +31,7 @@ from walk3d.contact.support import foot_points, support_rows
 from walk3d.contact.transition import apply_ratios
 from walk3d.problem import layout
 from walk3d.problem.criteria import POWER_SCALE_W, node_terms
-from walk3d.problem.derivatives import NlpPieces, derivative_functions
+from walk3d.problem.derivatives import NlpPieces, NodeDerivs, derivative_functions
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
 from walk3d.problem.schedule import loop_check_times, range_rows, schedule
 from walk3d.problem.settings import PredictionSettings, ratios_for
@@ -267,7 +267,7 @@ def build_nlp(
     dynamics: bool = True,
     balance: bool = True,
     functions: dict[str, ca.Function] | None = None,
-    node_derivs: tuple[ca.Function, ca.Function, ca.Function] | None = None,
+    node_derivs: NodeDerivs | None = None,
 ):
     """Symbolic NLP dict ``{x, f, g}`` (MX calling the per-node SX function), its
     :class:`Schedule` and the lifting maps ``(n_nodes, 78, N_X)``.

@@ -70,9 +70,7 @@ class Solver:
     """Time to set up the solver without its stages (model functions, bounds)."""
     from_cache: bool = False
     """Whether the model's SX functions were read from the on-disk cache."""
-    compiled: dict[str, tuple[ca.Function, ca.Function, ca.Function]] = field(
-        default_factory=dict, repr=False
-    )
+    compiled: dict[str, derivatives.NodeDerivs] = field(default_factory=dict, repr=False)
     """Compiled ``(jac, grad, hess)`` of the mapped node function, by NLP kind (those found in
     the cache at build time; :func:`compile_solver` makes them)."""
     stage_build_s: dict[str, float] = field(default_factory=dict, repr=False)
@@ -264,7 +262,7 @@ def _chunk_functions(settings: PredictionSettings, fns: dict[str, ca.Function],
 
 def _load_compiled(
     settings: PredictionSettings, fns: dict[str, ca.Function]
-) -> dict[str, tuple[ca.Function, ca.Function, ca.Function]]:
+) -> dict[str, derivatives.NodeDerivs]:
     """The compiled node derivatives found in the cache, as ``(jac, grad, hess)`` by kind."""
     out = {}
     for kind in COMPILED_NODES:
@@ -273,7 +271,7 @@ def _load_compiled(
             continue
         names = _chunk_names(kind)
         jac = derivatives.assemble([libs[n] for n in names[:CHUNKS]], f"walk3d_{kind}_jac")
-        hess = derivatives.assemble([libs[n] for n in names[CHUNKS:]], f"walk3d_{kind}_hess")
+        hess = [libs[n] for n in names[CHUNKS:]]  # mapped block by block (map_blocks)
         grad = derivatives.node_gradient(fns[COMPILED_NODES[kind]], _crit(settings))
         out[kind] = (jac, grad, hess)
     return out
