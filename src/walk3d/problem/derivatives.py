@@ -308,10 +308,10 @@ def select_rows(prob: dict, rows: np.ndarray) -> dict:
     force in double support...): 513 of the full stage's 3592 rows and 1545 of the balance
     stage's are free. IPOPT keeps a free row as an inequality with a free slack, so it still
     enlarges the KKT system and its linearization residual counts as infeasibility. Without
-    them the linear algebra took 21 % (balance) to 37 % (full) less time per iteration, the
-    balance stage of seed 0 took the same iterations (108, 109) to the same optimum
-    (docs/solver.md, "Session 7"). Their multipliers are zero at any KKT point, so the
-    Hessian gets zeros in their place."""
+    them (seed 0, same start) the linear algebra took 17 % (balance) to 23 % (full) less time
+    per iteration; the balance stage took the same iterations (108, 109) to the same optimum,
+    the full stage 93 instead of 106 (docs/solver.md, "Session 7"). Their multipliers are
+    zero at any KKT point, so the Hessian gets zeros in their place."""
     rows = np.asarray(rows, dtype=int)
     x, g = prob["x"], prob["g"]
     n_g = g.numel()
