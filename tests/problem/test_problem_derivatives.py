@@ -6,6 +6,8 @@ import numpy as np
 import pytest
 
 from walk3d.problem import derivatives, nlp
+from walk3d.problem.bounds import bounded_rows, bounds
+from walk3d.problem.schedule import schedule
 from walk3d.problem.settings import PredictionSettings, body_for
 
 
@@ -110,10 +112,6 @@ def test_column_blocks_equal_the_node_derivatives(dynamics, criterion):
 def test_selected_rows_keep_their_values_and_derivatives():
     """select_rows: a stage sees only the bounded rows; the values, Jacobian rows and the
     Hessian (free rows' multipliers are zero) are those of the whole NLP."""
-    from walk3d.problem.bounds import bounds
-    from walk3d.problem.schedule import schedule
-    from walk3d.solve.solver import bounded_rows
-
     s = PredictionSettings(nodes=6)
     body = body_for(s)
     prob, _, _ = nlp.build_nlp(body, s, dynamics=True, balance=True)

@@ -26,6 +26,12 @@ class Bounds:
     ubg: np.ndarray
 
 
+def bounded_rows(b: Bounds) -> np.ndarray:
+    """The constraint rows with a finite bound: the only ones a solver stage sees
+    (:func:`walk3d.problem.derivatives.select_rows` says why)."""
+    return np.flatnonzero(np.isfinite(b.lbg) | np.isfinite(b.ubg))
+
+
 def _coord_bounds(
     body: BodyModel, settings: PredictionSettings, sch: Schedule
 ) -> tuple[np.ndarray, np.ndarray]:

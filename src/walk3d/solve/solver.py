@@ -22,7 +22,7 @@ import numpy as np
 from walk3d.body.model import BodyModel
 from walk3d.io import compiled, model_cache
 from walk3d.problem import derivatives, nlp
-from walk3d.problem.bounds import Bounds, bounds
+from walk3d.problem.bounds import Bounds, bounded_rows, bounds
 from walk3d.problem.schedule import Schedule, schedule
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.solve.progress import IterationReporter
@@ -290,12 +290,6 @@ def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool 
                   bounds(body, settings, sch, dynamics=False),
                   bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
                   time.perf_counter() - t0, hit, comp)  # fmt: skip
-
-
-def bounded_rows(b: Bounds) -> np.ndarray:
-    """The constraint rows with a finite bound: the only ones a stage solver sees
-    (:func:`walk3d.problem.derivatives.select_rows` says why)."""
-    return np.flatnonzero(np.isfinite(b.lbg) | np.isfinite(b.ubg))
 
 
 def _with_derivatives(prob: dict, opts: dict, plugin: str = "ipopt") -> tuple[dict, dict]:
