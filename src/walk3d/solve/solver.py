@@ -75,6 +75,8 @@ class Solver:
     the cache at build time; :func:`compile_solver` makes them)."""
     stage_build_s: dict[str, float] = field(default_factory=dict, repr=False)
     """Seconds spent building each NLP and stage solver so far, by name."""
+    stage_rows: dict[str, np.ndarray] = field(init=False, repr=False)
+    """By NLP kind, the constraint rows its stage solvers see (:func:`bounded_rows`)."""
     reporters: dict[str, IterationReporter] = field(init=False, repr=False)
     """IPOPT's per-iteration callbacks by NLP kind, shared by its stages (:mod:`.progress`)."""
     _built: dict[str, object] = field(default_factory=dict, repr=False)
@@ -83,10 +85,11 @@ class Solver:
     )
 
     def __post_init__(self) -> None:
-        reporters = {}
-        for kind in nlp.STAGES:
-            b = self.stage_bounds(kind)
-            reporters[kind] = IterationReporter(f"walk3d_progress_{kind}", b.lbz.size, b.lbg.size)
+        rows = {kind: bounded_rows(self.nlp_bounds(kind)) for kind in nlp.STAGES}
+        object.__setattr__(self, "stage_rows", rows)
+        reporters = {kind: IterationReporter(f"walk3d_progress_{kind}",
+                                             self.nlp_bounds(kind).lbz.size, r.size)
+                     for kind, r in rows.items()}  # fmt: skip
         object.__setattr__(self, "reporters", reporters)
 
     def nlp_bounds(self, kind: str) -> Bounds:
@@ -96,9 +99,9 @@ class Solver:
 
     def stage_bounds(self, name: str) -> Bounds:
         """The bounds that stage ``name``'s solver takes: those of its NLP, on the rows it
-        keeps (:func:`bounded_rows`); ``g`` in the stage's solution has these rows."""
-        b = self.nlp_bounds(STAGE_PROBLEMS[name])
-        rows = bounded_rows(b)
+        keeps (:attr:`stage_rows`); ``g`` in the stage's solution has these rows."""
+        kind = STAGE_PROBLEMS[name]
+        b, rows = self.nlp_bounds(kind), self.stage_rows[kind]
         return Bounds(b.lbz, b.ubz, b.lbg[rows], b.ubg[rows])
 
     def reporter(self, name: str) -> IterationReporter:
@@ -124,8 +127,7 @@ class Solver:
         with self._locks[name]:
             if name not in self._built:
                 kind = STAGE_PROBLEMS[name]
-                rows = bounded_rows(self.nlp_bounds(kind))
-                prob = derivatives.select_rows(self._problem(kind), rows)
+                prob = derivatives.select_rows(self._problem(kind), self.stage_rows[kind])
                 t0 = time.perf_counter()
                 if self.method == "ipopt":
                     opts = _ipopt_options(self.settings)
