@@ -1,4 +1,5 @@
-"""Joint-coordinate ranges used as constraints: anatomical, with the arms narrowed to walking."""
+"""Joint-coordinate ranges used as constraints: anatomical, with the arms and the knee narrowed
+to walking."""
 
 from __future__ import annotations
 
@@ -18,15 +19,32 @@ whirled the arms through ±130° at twice the stride frequency while the hips cr
 ``settings.arm_walking_ranges = False`` for the anatomical ranges.
 """
 
+LEG_WALKING_RANGE_DEG = {"knee": ((-5.0, 90.0),)}
+"""Knee range while walking (flexion), inside the anatomical −5…135°.
+
+Walking knees flex by at most about 60–75° (in swing; the walking optima here reach 74–79°),
+so 90° leaves room for slow, fast and pathological-looking gaits while ruling out kneeling and
+deep squats. Those are not walking, but random starts found them: the geometry-only posture
+stage ended with a knee at 130° (seed 7 of session 7) or a squat with the pelvis at 0.35 m,
+and from there the double-support loop rows became nearly degenerate (multipliers up to 10¹⁶,
+several factorizations per iteration), so the balance stage crawled for hundreds of iterations
+(the slow tail of the benchmark). With the limit, on seeds 0–19 (docs/solver.md, "Session 8")
+the balance stage after the posture fallback took 42–88 iterations for 18 of 20 starts.
+Set ``settings.leg_walking_ranges = False`` for the anatomical range.
+"""
+
 
 def joint_ranges(body: BodyModel, settings: PredictionSettings) -> np.ndarray:
-    """(24, 2) joint-coordinate ranges in rad, DoF order: anatomical, arms narrowed to walking."""
+    """(24, 2) joint-coordinate ranges in rad, DoF order: anatomical, narrowed to walking for
+    the arms (``arm_walking_ranges``) and the knees (``leg_walking_ranges``)."""
+    walking = {**(ARM_WALKING_RANGE_DEG if settings.arm_walking_ranges else {}),
+               **(LEG_WALKING_RANGE_DEG if settings.leg_walking_ranges else {})}  # fmt: skip
     out = []
     for j in body.joints:
         r = np.array(j.range, dtype=float)
         kind = j.name.rsplit("_", 1)[0]
-        if settings.arm_walking_ranges and kind in ARM_WALKING_RANGE_DEG:
-            env = np.radians(np.array(ARM_WALKING_RANGE_DEG[kind]))
+        if kind in walking:
+            env = np.radians(np.array(walking[kind]))
             r = np.column_stack([np.maximum(r[:, 0], env[:, 0]), np.minimum(r[:, 1], env[:, 1])])
         out.append(r)
     return np.concatenate(out)

@@ -73,6 +73,9 @@ class PredictionSettings(BaseModel):
     (docs/solver.md, "Session 6")."""
     arm_walking_ranges: bool = True
     """Narrow shoulder and elbow ranges to those of walking (walk3d.problem.ranges)."""
+    leg_walking_ranges: bool = True
+    """Narrow the knee range to that of walking, flexion up to 90° (walk3d.problem.ranges):
+    it rules out the kneeling and squatting postures that made the slow tail of the solves."""
     threads: int = 1
     """Threads evaluating the node functions and their derivatives (CasADi ``map``). Campaigns
     already use one process per core; ``walk3d predict`` uses every core
