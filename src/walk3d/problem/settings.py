@@ -63,6 +63,14 @@ class PredictionSettings(BaseModel):
     """Iteration limit of the balance stage started straight from standing before the posture
     fallback (it converged in 102–285 iterations when it converged; 600 did not lead more
     starts to walking)."""
+    posture_balance_max_iter: int = 250
+    """Iteration limit of the balance stage that follows the posture stage (with
+    ``posture_stage = "off"``: of the only balance stage), at most ``max_iter``; the full stage
+    then starts from where it stopped. With the knee's walking range (``leg_walking_ranges``) this
+    stage converged in 42–88 iterations on 18 of seeds 0–19, and the other two ran to the
+    general limit of 800 (100–140 s each) without converging. Stopped at 250, seed 1 then
+    reached the walking optimum in 669 iterations in all instead of a crouched one in 1494;
+    seed 17 failed either way (docs/solver.md, "Session 8")."""
     balance_progress_check: tuple[int, float] | None = (80, 0.1)
     """``(iteration, violation)``: the balance stage started straight from standing is stopped
     (and the posture fallback taken) if at that iteration its largest constraint violation is
@@ -138,6 +146,12 @@ class PredictionSettings(BaseModel):
                 f"free-moment radius must be in [0, 0.1] m, got {self.free_moment_radius}",
             ),
             (0 < self.smoothing < 0.1, f"smoothing must be in (0, 0.1), got {self.smoothing}"),
+            (
+                min(self.max_iter, self.balance_max_iter, self.posture_balance_max_iter) >= 1,
+                "iteration limits must be >= 1, got max_iter "
+                f"{self.max_iter}, balance_max_iter {self.balance_max_iter}, "
+                f"posture_balance_max_iter {self.posture_balance_max_iter}",
+            ),
             (
                 self.balance_progress_check is None
                 or (self.balance_progress_check[0] >= 1 and self.balance_progress_check[1] > 0),

@@ -133,6 +133,10 @@ class Solver:
                     opts = _ipopt_options(self.settings)
                     if name == "balance_direct":
                         opts["ipopt.max_iter"] = self.settings.balance_max_iter
+                    elif name == "balance":
+                        opts["ipopt.max_iter"] = min(
+                            self.settings.max_iter, self.settings.posture_balance_max_iter
+                        )
                     plugin = "ipopt"
                 else:
                     opts, plugin = _sqp_options(self.settings), "sqpmethod"
@@ -205,7 +209,8 @@ def _ipopt_options(settings: PredictionSettings) -> dict:
 
 RUNTIME_FIELDS = frozenset({
     "nodes", "threads", "derivatives", "range_oversampling", "loop_checks", "loop_check_toe_off",
-    "loop_check_tolerance", "posture_stage", "balance_max_iter", "balance_progress_check",
+    "loop_check_tolerance", "posture_stage", "balance_max_iter", "posture_balance_max_iter",
+    "balance_progress_check",
     "perturbation", "max_iter", "tol",
 })  # fmt: skip
 """Settings that :func:`walk3d.problem.nlp.model_functions` does not read (they shape the NLP
