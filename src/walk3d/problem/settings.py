@@ -67,10 +67,10 @@ class PredictionSettings(BaseModel):
     """Iteration limit of the balance stage that follows the posture stage (with
     ``posture_stage = "off"``: of the only balance stage), at most ``max_iter``; the full stage
     then starts from where it stopped. With the knee's walking range (``leg_walking_ranges``) this
-    stage converged in 42–88 iterations on 18 of seeds 0–19, and the other two ran to the
-    general limit of 800 (100–140 s each) without converging. Stopped at 250, seed 1 then
-    reached the walking optimum in 669 iterations in all instead of a crouched one in 1494;
-    seed 17 failed either way (docs/solver.md, "Session 8")."""
+    stage converged in 42–88 iterations on 16 of the 18 starts of seeds 0–19 that took the
+    fallback; the other two ran to the general limit of 800 (100–140 s each) without converging.
+    Stopped at 250, seed 1 then reached the walking optimum in 669 iterations in all instead of
+    a crouched one in 1494; seed 17 failed either way (docs/solver.md, "Session 8")."""
     balance_progress_check: tuple[int, float] | None = (80, 0.1)
     """``(iteration, violation)``: the balance stage started straight from standing is stopped
     (and the posture fallback taken) if at that iteration its largest constraint violation is
