@@ -93,3 +93,39 @@ def test_loop_function_matches_the_node_rows(setup):
     loop = np.array(nlp.loop_function(body, s)(y[: layout.N_COORD], hw, p[1])).ravel()
     rows = np.r_[nlp.G_ROWS["loop_position"], nlp.G_ROWS["loop_orientation"]]
     np.testing.assert_allclose(loop, g[rows], rtol=1e-10, atol=1e-12)
+
+
+@pytest.mark.parametrize("decay", [0.0, 0.6, 1.0])
+def test_balance_split_shares_the_reaction_as_the_full_stage(setup, decay):
+    """With ``balance_split`` the balance node (no joint moments) bounds the same per-foot
+    loads as the full node: force, friction, centre-of-pressure and heel-strike rows agree, and
+    so do their bounds, so a balance optimum starts the full stage inside them. Without it
+    (the default) the support rows hold the total under both feet and differ."""
+    s, body, full = setup
+    y, w0, hw, p, t = _random_node(3)
+    p = np.array([decay, p[1]])
+    R = nlp.G_ROWS
+    rows = np.r_[R["root_force"], R["other_force"], R["hs_wrench"], R["root_support"],
+                 R["other_support"]]  # fmt: skip
+    split = PredictionSettings(nodes=8, balance_split=True)
+
+    def balance_rows(settings):
+        fn = nlp.node_function(body, settings, dynamics=False, balance=True)
+        return np.array(fn(y, w0, hw, p, t)[0]).ravel()[rows]
+
+    g_full = np.array(full(y, w0, hw, p, t)[0]).ravel()[rows]
+    np.testing.assert_allclose(balance_rows(split), g_full, rtol=1e-9, atol=1e-12)
+    assert np.abs(g_full[-12:]).max() > 1e-3  # the support rows compared are not all zero
+    if decay > 0:
+        assert np.abs(balance_rows(s) - g_full).max() > 1e-3
+    sch = nlp.schedule(s)
+    b_full, b_split = bounds(body, s, sch), bounds(body, split, sch, dynamics=False)
+    n_lift = sch.n * nlp.N_Y
+
+    def node_bounds(b):
+        lo, hi = (v[n_lift : n_lift + sch.n * nlp.N_G].reshape(sch.n, nlp.N_G)[:, rows]
+                  for v in (b.lbg, b.ubg))  # fmt: skip
+        return lo, hi
+
+    for a, b in zip(node_bounds(b_split), node_bounds(b_full), strict=True):
+        np.testing.assert_array_equal(a, b)

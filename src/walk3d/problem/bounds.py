@@ -68,6 +68,8 @@ def bounds(
     a purely geometric first pass."""
     n_nodes = sch.n
     slack = dynamics and settings.absolute == "slack"
+    # the balance stage with the split between the feet bounds each foot's load as the full stage
+    per_foot = dynamics or balance and settings.balance_split
     # x: symmetry-fixed coefficients, half step width
     lbx = np.full(layout.N_X, -np.inf)
     ubx = np.full(layout.N_X, np.inf)
@@ -88,7 +90,7 @@ def bounds(
             glo[k, loop], ghi[k, loop] = 0.0, 0.0
         if sch.swing[k]:
             glo[k, R["other_points_y"]] = 0.0
-        if dynamics and sch.double_support[k]:  # (constant zero rows in the first stage:
+        if per_foot and sch.double_support[k]:  # (constant zero rows in the first stage:
             # bounding them would pin IPOPT's slacks at their bounds)
             glo[k, R["other_force"].start] = 0.0
             ghi[k, R["other_force"].start + 1 : R["other_force"].stop] = 0.0
@@ -102,11 +104,11 @@ def bounds(
         glo[k, R["ball_norm"]], ghi[k, R["ball_norm"]] = 0.0, BALL_NORM_MAX
         if slack:
             glo[k, R["slack_pos"]] = glo[k, R["slack_neg"]] = 0.0
-        if dynamics and k > 0 or not dynamics and balance and sch.swing[k]:
+        if per_foot and k > 0 or not dynamics and balance and sch.swing[k]:
             glo[k, R["root_support"]] = 0.0
-        if dynamics and sch.double_support[k]:
+        if per_foot and sch.double_support[k]:
             glo[k, R["other_support"]] = 0.0
-        if not dynamics and balance and sch.double_support[k]:  # total COP under both feet
+        if not per_foot and balance and sch.double_support[k]:  # total COP under both feet
             glo[k, R["other_support"].start : R["other_support"].start + 4] = 0.0
     n_lift = n_nodes * N_Y
     _, rlo, rhi = range_rows(body, settings)

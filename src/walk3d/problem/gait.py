@@ -92,6 +92,7 @@ def evaluate(
     w0: Wrench | None,
     dynamics: bool = True,
     balance: bool = True,
+    split_total: bool = False,
 ) -> GaitState:
     """Evaluate the gait at the nodes described by ``coords`` (26 triples).
 
@@ -101,7 +102,9 @@ def evaluate(
     With ``dynamics=False`` only kinematic outputs and the total ground reaction are computed
     (no joint moments); the root foot is given that total (so a first stage can keep it
     pushing, within friction and under the feet), the other foot and all moments are zero.
-    With ``balance=False`` as well, the total is zero too: geometry only.
+    With ``balance=False`` as well, the total is zero too: geometry only. ``split_total`` (with
+    ``dynamics=False, balance=True``): the total is shared between the feet as with dynamics
+    (transition function, heel-strike wrench), still without joint moments.
     """
     other = "l" if root == "r" else "r"
     dof = coords[:24]
@@ -132,6 +135,9 @@ def evaluate(
         z3 = (zero, zero, zero)
         total = root_w = total_ground_reaction(body, pose) if balance else (z3, z3)
         hs = other_w = (z3, z3)
+        if balance and split_total:
+            hs = heel_strike_wrench(total, ankle_other)
+            root_w, other_w = split(total, decay, hs if w0 is None else w0, ankle_other)
         moments = [z3] * len(body.joints)
     pts = body.foot.points(other)
     return GaitState(

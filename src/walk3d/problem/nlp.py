@@ -75,6 +75,7 @@ def state_at(
     omega: float,
     dynamics: bool = True,
     balance: bool = True,
+    split_total: bool = False,
 ) -> GaitState:
     """:func:`evaluate` with the right foot as root (component inputs, any backend).
 
@@ -96,6 +97,7 @@ def state_at(
         w0_wrench,
         dynamics=dynamics,
         balance=balance,
+        split_total=split_total,
     )
 
 
@@ -145,19 +147,26 @@ def node_outputs(body: BodyModel, settings: PredictionSettings, st: GaitState):
     return g, [sum(tor), sum(en) / EN_SCALE], y_norms
 
 
-def _support(body: BodyModel, settings: PredictionSettings, st: GaitState, dynamics: bool):
-    """Rows of :mod:`walk3d.contact.support`: root foot, then other foot.
+def _splits(settings: PredictionSettings, dynamics: bool, balance: bool) -> bool:
+    """Whether a stage without dynamics shares the total reaction between the feet
+    (``settings.balance_split``, balance stage only)."""
+    return not dynamics and balance and settings.balance_split
 
-    In the first stage (no split between the feet) the root rows hold the *total* reaction
-    under the root foot (single stance) and the other rows the total under both feet (double
-    support: the box from the trailing left heel to the leading right toe, and from the left
-    to the right fifth metatarsal head).
+
+def _support(body: BodyModel, settings: PredictionSettings, st: GaitState, per_foot: bool):
+    """Rows of :mod:`walk3d.contact.support`: root foot, then other foot, each under its own
+    load when ``per_foot`` (full stage, and the balance stage with ``balance_split``).
+
+    Otherwise (a first stage without the split between the feet) the root rows hold the *total*
+    reaction under the root foot (single stance) and the other rows the total under both feet
+    (double support: the box from the trailing left heel to the leading right toe, and from the
+    left to the right fifth metatarsal head).
     """
     wf, mu, r = body.mass * G, settings.friction, settings.free_moment_radius
     pts = {s: foot_points(st.pose, body.segment_index(f"foot_{s}"), body.foot.points(s))
            for s in ("r", "l")}  # fmt: skip
     rows = support_rows(st.feet["r"], pts["r"], "r", wf, mu, r)
-    if dynamics:
+    if per_foot:
         return rows + support_rows(st.feet["l"], pts["l"], "l", wf, mu, r)
     both = [pts["l"][0], pts["r"][1], pts["l"][3], pts["r"][3]]
     return rows + support_rows(st.total, both, "r", wf, mu, r)
@@ -198,7 +207,8 @@ def node_function(
     t = ca.SX.sym("t", N_T)
     omega = 2 * np.pi / settings.period
     yl, w0l = [y[i] for i in range(N_Y)], [w0[i] for i in range(6)]
-    st = state_at(body, yl, w0l, hw, p[0], p[1], omega, dynamics, balance)
+    split_total = _splits(settings, dynamics, balance)
+    st = state_at(body, yl, w0l, hw, p[0], p[1], omega, dynamics, balance, split_total)
     g, f, starts = node_outputs(body, settings, st)
     if not dynamics:
         n = layout.N_COORD
@@ -216,7 +226,7 @@ def node_function(
         f = [total, total * POWER_SCALE_W / EN_SCALE]
     else:
         g += [0.0] * (2 * N_T)
-    g += _support(body, settings, st, dynamics)
+    g += _support(body, settings, st, dynamics or split_total)
     return ca.Function("walk3d_node", [y, w0, hw, p, t], [ca.vertcat(*g), ca.vertcat(*f)])
 
 
@@ -286,10 +296,10 @@ def build_nlp(
         fn = fns.get(_node_name(dynamics, balance, with_hs))
         return fn or node_function(body, settings, dynamics, with_hs=with_hs, balance=balance)
 
-    # without dynamics the heel-strike rows are zeros anyway: one node function (and one set of
-    # derivatives to build) serves every node
+    # without dynamics (and without the balance split) the heel-strike rows are zeros anyway: one
+    # node function (and one set of derivatives to build) serves every node
     node = node_fn(False)
-    node0 = node_fn(True) if dynamics else node
+    node0 = node_fn(True) if dynamics or _splits(settings, dynamics, balance) else node
     n_nodes = sch.n
     lift = lifting_maps(settings, sch)
     x = ca.MX.sym("x", layout.N_X)

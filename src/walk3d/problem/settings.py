@@ -79,6 +79,15 @@ class PredictionSettings(BaseModel):
     before the fallback; at iteration 80 those had violations of 0.7-14, while the starts
     whose stage converged by 110 iterations (seeds 0, 10, 15) were at 8e-5-0.03
     (docs/solver.md, "Session 6")."""
+    balance_split: bool = False
+    """The balance stage shares the total ground reaction between the feet in double support as
+    the full stage does (transition function and heel-strike wrench, no joint moments needed)
+    and bounds each foot's load under that foot. Off by default: the full stage then starts
+    outside its per-foot rows (seed 0: twelve centre-of-pressure and friction rows of the root
+    foot in double support, violated by up to 0.52) and restores them in its first ~20
+    iterations. On, seeds 0-11: full stages of 45-89 iterations instead of 70-110, but longer
+    balance stages, seed 0's balance stage from standing no longer converges (it ends crouched)
+    and seed 1 fails; no time gained (docs/solver.md, "Session 9")."""
     arm_walking_ranges: bool = True
     """Narrow shoulder and elbow ranges to those of walking (walk3d.problem.ranges)."""
     leg_walking_ranges: bool = True
