@@ -91,6 +91,7 @@ def test_axis_split_sums_to_total():
         ({"balance_progress_check": (0, 0.1)}, "balance progress check"),
         ({"balance_progress_check": (80, -1.0)}, "balance progress check"),
         ({"posture_balance_max_iter": 0}, "iteration limits"),
+        ({"full_max_iter": 0}, "iteration limits"),
     ],
 )
 def test_bad_settings_give_one_clear_message(kwargs, words):

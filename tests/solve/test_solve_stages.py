@@ -77,6 +77,11 @@ def test_the_sqp_method_builds_its_stages_with_casadis_own_derivatives():
         # the balance stage after the posture stage stops at its own limit (below max_iter)
         ({"posture_stage": "first", "posture_balance_max_iter": 2}, ["posture", "balance", "full"]),
         ({"posture_stage": "off", "balance_max_iter": 400}, ["balance", "full"]),
+        # the full stage stops at its own limit (below max_iter)
+        (
+            {"posture_stage": "off", "balance_max_iter": 400, "full_max_iter": 2},
+            ["balance", "full"],
+        ),
     ],
 )
 def test_stage_sequence_of_the_posture_fallback(update, expected):
@@ -87,6 +92,9 @@ def test_stage_sequence_of_the_posture_fallback(update, expected):
     if update.get("balance_progress_check"):  # stopped right at the check's iteration
         assert outcome.stages[0]["status"] == "User_Requested_Stop"
         assert outcome.stages[0]["iterations"] == 2
+    if update.get("full_max_iter"):
+        assert outcome.stages[-1]["iterations"] == 2
+        assert outcome.stages[-1]["status"] == "Maximum_Iterations_Exceeded"
     if update.get("posture_balance_max_iter"):
         assert outcome.stages[1]["iterations"] == 2
         assert outcome.stages[1]["status"] == "Maximum_Iterations_Exceeded"

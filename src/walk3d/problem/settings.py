@@ -121,6 +121,13 @@ class PredictionSettings(BaseModel):
     perturbation: float = 0.05
     """Amplitude of the uniform random perturbation of the standing initial guess."""
     max_iter: int = 800
+    full_max_iter: int = 400
+    """Iteration limit of the full stage, at most ``max_iter``. With the knee's walking range
+    every full stage that converged did so within 230 iterations (seeds 0-19 in session 8's
+    benchmark and sweeps, seeds 0-9 again in session 9), most within 110; the two that failed
+    wandered to 800 and 574 (about 100 s each) without converging. A full stage on the direct
+    path that stops here is retried through the posture stage (``posture_stage``)
+    (docs/solver.md, "Session 9")."""
     tol: float = 1e-6
 
     @field_validator("*", mode="before")
@@ -156,10 +163,17 @@ class PredictionSettings(BaseModel):
             ),
             (0 < self.smoothing < 0.1, f"smoothing must be in (0, 0.1), got {self.smoothing}"),
             (
-                min(self.max_iter, self.balance_max_iter, self.posture_balance_max_iter) >= 1,
+                min(
+                    self.max_iter,
+                    self.balance_max_iter,
+                    self.posture_balance_max_iter,
+                    self.full_max_iter,
+                )
+                >= 1,
                 "iteration limits must be >= 1, got max_iter "
                 f"{self.max_iter}, balance_max_iter {self.balance_max_iter}, "
-                f"posture_balance_max_iter {self.posture_balance_max_iter}",
+                f"posture_balance_max_iter {self.posture_balance_max_iter}, "
+                f"full_max_iter {self.full_max_iter}",
             ),
             (
                 self.balance_progress_check is None

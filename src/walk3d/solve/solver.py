@@ -137,6 +137,10 @@ class Solver:
                         opts["ipopt.max_iter"] = min(
                             self.settings.max_iter, self.settings.posture_balance_max_iter
                         )
+                    elif name == "full":
+                        opts["ipopt.max_iter"] = min(
+                            self.settings.max_iter, self.settings.full_max_iter
+                        )
                     plugin = "ipopt"
                 else:
                     opts, plugin = _sqp_options(self.settings), "sqpmethod"
@@ -210,6 +214,7 @@ def _ipopt_options(settings: PredictionSettings) -> dict:
 RUNTIME_FIELDS = frozenset({
     "nodes", "threads", "derivatives", "range_oversampling", "loop_checks", "loop_check_toe_off",
     "loop_check_tolerance", "posture_stage", "balance_max_iter", "posture_balance_max_iter",
+    "full_max_iter",
     "balance_progress_check",
     "perturbation", "max_iter", "tol",
 })  # fmt: skip
