@@ -21,6 +21,9 @@ BAD = [
     (["--criterion", "fun"], "criterion"),
     (["--solver", "magic"], "solver"),
     (["--speed", "fast"], "speed"),
+    (["--linear-solver", "ma99"], "linear_solver"),
+    # an HSL solver whose library cannot be loaded is refused before the solve starts
+    (["--linear-solver", "ma57", "--hsl-library", "/nonexistent/libhsl.so"], "HSL solver ma57"),
 ]
 
 
@@ -48,3 +51,14 @@ def test_compile_bad_input_or_no_compiler_exits_2(tmp_path, args, env, word):
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and word in lines[0], r.stderr
     assert not list(tmp_path.glob("lib-*"))
+
+
+def test_campaign_refuses_an_unusable_hsl_solver_before_starting(tmp_path):
+    out = tmp_path / "c"
+    cmd = [sys.executable, "-m", "walk3d.cli", "campaign", "--starts", "2", "--out", str(out),
+           "--linear-solver", "ma27", "--hsl-library", str(tmp_path / "libhsl.so")]  # fmt: skip
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "HSL solver ma27" in lines[0], r.stderr
+    assert not out.exists()

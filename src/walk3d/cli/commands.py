@@ -15,6 +15,8 @@ from walk3d.cli.common import (
     DoubleSupport,
     FromTrial,
     Height,
+    HslLibrary,
+    LinearSolver,
     Mass,
     Nodes,
     Period,
@@ -143,6 +145,8 @@ def predict(
     from_trial: FromTrial = None,
     grf: TrialGrf = None,
     calibration: CalibrationFile = None,
+    linear_solver: LinearSolver = "mumps",
+    hsl_library: HslLibrary = None,
 ) -> None:
     """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot and
     summary.png. Exit code 0 if the solve converged, 1 if not (results are still written and
@@ -158,7 +162,7 @@ def predict(
     settings = settings_from_options(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads,
-        **_calibration_fields(calibration),
+        linear_solver=linear_solver, hsl_library=hsl_library, **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.predict import predict as run
 
@@ -249,6 +253,8 @@ def campaign(
             "least 30 starts are to run and a C compiler is found.",
         ),
     ] = None,
+    linear_solver: LinearSolver = "mumps",
+    hsl_library: HslLibrary = None,
 ) -> None:
     """Run N random starts in parallel (Dask) and rank them. Each finished start is stored
     at once in DIR/starts/seed_<seed>/ (a walk3d predict folder plus record.json); rerunning
@@ -263,6 +269,7 @@ def campaign(
     settings = settings_from_options(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes, max_iter=max_iter,
+        linear_solver=linear_solver, hsl_library=hsl_library,
     )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign
     from walk3d.campaign.ranking import top_table

@@ -39,6 +39,18 @@ SolverName = Annotated[
     ),
 ]
 Nodes = Annotated[int, typer.Option("--nodes", help="Time nodes per half cycle.")]
+LinearSolver = Annotated[
+    str,
+    typer.Option(
+        "--linear-solver",
+        help="IPOPT's linear solver: mumps (default, built in) or an HSL solver (ma27, ma57, "
+        "ma77, ma86, ma97) from an HSL library you have (--hsl-library).",
+    ),
+]
+HslLibrary = Annotated[
+    str | None,
+    typer.Option("--hsl-library", help="Path of libhsl.so or libcoinhsl.so (HSL solvers)."),
+]
 FromTrial = Annotated[
     str | None,
     typer.Option(
@@ -75,6 +87,13 @@ def settings_from_options(criterion: str, solver: str, seed: int, **fields):
     if seed < 0:
         fail(f"--seed must be a non-negative integer, got {seed}")
     try:
-        return PredictionSettings(criterion=criterion, **fields)
+        settings = PredictionSettings(criterion=criterion, **fields)
     except ValueError as exc:
         fail(first_error(exc))
+    if settings.linear_solver != "mumps" and solver == "ipopt":
+        from walk3d.solve.solver import linear_solver_error
+
+        problem = linear_solver_error(settings)
+        if problem:
+            fail(problem)
+    return settings

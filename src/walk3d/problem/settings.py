@@ -120,6 +120,15 @@ class PredictionSettings(BaseModel):
     strike from the total reaction (:mod:`walk3d.contact.transition`)."""
     perturbation: float = 0.05
     """Amplitude of the uniform random perturbation of the standing initial guess."""
+    linear_solver: Literal["mumps", "ma27", "ma57", "ma77", "ma86", "ma97"] = "mumps"
+    """IPOPT's sparse symmetric indefinite solver for its Newton systems. MUMPS ships inside
+    CasADi's wheel and is what every figure in docs/solver.md used: it is about two thirds of a
+    full-stage iteration here. The HSL solvers are IPOPT's usual faster choice but are not
+    redistributable: they need an HSL library the user obtains (free for academic use), found
+    on the library path or at ``hsl_library``. Not measured on this machine (none available)."""
+    hsl_library: str | None = None
+    """Path of the HSL shared library (``libhsl.so`` or ``libcoinhsl.so``) for an HSL
+    ``linear_solver``; None: IPOPT's default name on the library path."""
     max_iter: int = 800
     full_max_iter: int = 400
     """Iteration limit of the full stage, at most ``max_iter``. With the knee's walking range
