@@ -12,7 +12,7 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.problem import layout
-from walk3d.problem.nlp import BALL_NORM_MAX, G_ROWS, N_G, N_T, N_Y
+from walk3d.problem.nlp import BALL_NORM_MAX, G_ROWS, N_G, N_T, N_Y, per_foot_loads
 from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.schedule import Schedule, loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings
@@ -68,8 +68,7 @@ def bounds(
     a purely geometric first pass."""
     n_nodes = sch.n
     slack = dynamics and settings.absolute == "slack"
-    # the balance stage with the split between the feet bounds each foot's load as the full stage
-    per_foot = dynamics or balance and settings.balance_split
+    per_foot = per_foot_loads(settings, dynamics, balance)
     # x: symmetry-fixed coefficients, half step width
     lbx = np.full(layout.N_X, -np.inf)
     ubx = np.full(layout.N_X, np.inf)

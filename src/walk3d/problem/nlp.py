@@ -147,10 +147,10 @@ def node_outputs(body: BodyModel, settings: PredictionSettings, st: GaitState):
     return g, [sum(tor), sum(en) / EN_SCALE], y_norms
 
 
-def _splits(settings: PredictionSettings, dynamics: bool, balance: bool) -> bool:
-    """Whether a stage without dynamics shares the total reaction between the feet
-    (``settings.balance_split``, balance stage only)."""
-    return not dynamics and balance and settings.balance_split
+def per_foot_loads(settings: PredictionSettings, dynamics: bool, balance: bool) -> bool:
+    """Whether a stage's NLP shares the reaction between the feet and bounds each foot's part
+    under that foot: the full stage, and the balance stage with ``settings.balance_split``."""
+    return dynamics or balance and settings.balance_split
 
 
 def _support(body: BodyModel, settings: PredictionSettings, st: GaitState, per_foot: bool):
@@ -207,8 +207,8 @@ def node_function(
     t = ca.SX.sym("t", N_T)
     omega = 2 * np.pi / settings.period
     yl, w0l = [y[i] for i in range(N_Y)], [w0[i] for i in range(6)]
-    split_total = _splits(settings, dynamics, balance)
-    st = state_at(body, yl, w0l, hw, p[0], p[1], omega, dynamics, balance, split_total)
+    per_foot = per_foot_loads(settings, dynamics, balance)
+    st = state_at(body, yl, w0l, hw, p[0], p[1], omega, dynamics, balance, per_foot)
     g, f, starts = node_outputs(body, settings, st)
     if not dynamics:
         n = layout.N_COORD
@@ -226,7 +226,7 @@ def node_function(
         f = [total, total * POWER_SCALE_W / EN_SCALE]
     else:
         g += [0.0] * (2 * N_T)
-    g += _support(body, settings, st, dynamics or split_total)
+    g += _support(body, settings, st, per_foot)
     return ca.Function("walk3d_node", [y, w0, hw, p, t], [ca.vertcat(*g), ca.vertcat(*f)])
 
 
@@ -299,7 +299,7 @@ def build_nlp(
     # without dynamics (and without the balance split) the heel-strike rows are zeros anyway: one
     # node function (and one set of derivatives to build) serves every node
     node = node_fn(False)
-    node0 = node_fn(True) if dynamics or _splits(settings, dynamics, balance) else node
+    node0 = node_fn(True) if per_foot_loads(settings, dynamics, balance) else node
     n_nodes = sch.n
     lift = lifting_maps(settings, sch)
     x = ca.MX.sym("x", layout.N_X)

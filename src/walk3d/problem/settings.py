@@ -122,8 +122,8 @@ class PredictionSettings(BaseModel):
     """Amplitude of the uniform random perturbation of the standing initial guess."""
     linear_solver: Literal["mumps", "ma27", "ma57", "ma77", "ma86", "ma97"] = "mumps"
     """IPOPT's sparse symmetric indefinite solver for its Newton systems. MUMPS ships inside
-    CasADi's wheel and is what every figure in docs/solver.md used: it is about two thirds of a
-    full-stage iteration here. The HSL solvers are IPOPT's usual faster choice but are not
+    CasADi's wheel and is what every figure in docs/solver.md used: it is 56-62 % of a stage's
+    time here. The HSL solvers are IPOPT's usual faster choice but are not
     redistributable: they need an HSL library the user obtains (free for academic use), found
     on the library path or at ``hsl_library``. Not measured on this machine (none available)."""
     hsl_library: str | None = None
