@@ -22,6 +22,8 @@ BAD = [
     (["--solver", "magic"], "solver"),
     (["--speed", "fast"], "speed"),
     (["--linear-solver", "ma99"], "linear_solver"),
+    (["--perturbation", "-0.1"], "perturbation"),
+    (["--perturbation", "2"], "perturbation"),
     # an HSL solver whose library cannot be loaded is refused before the solve starts
     (["--linear-solver", "ma57", "--hsl-library", "/nonexistent/libhsl.so"], "HSL solver ma57"),
 ]

@@ -20,6 +20,7 @@ from walk3d.cli.common import (
     Mass,
     Nodes,
     Period,
+    Perturbation,
     Sex,
     SolverName,
     Speed,
@@ -145,6 +146,7 @@ def predict(
     from_trial: FromTrial = None,
     grf: TrialGrf = None,
     calibration: CalibrationFile = None,
+    perturbation: Perturbation = 0.05,
     linear_solver: LinearSolver = "mumps",
     hsl_library: HslLibrary = None,
 ) -> None:
@@ -162,7 +164,8 @@ def predict(
     settings = settings_from_options(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads,
-        linear_solver=linear_solver, hsl_library=hsl_library, **_calibration_fields(calibration),
+        perturbation=perturbation, linear_solver=linear_solver, hsl_library=hsl_library,
+        **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.predict import predict as run
 
@@ -253,6 +256,7 @@ def campaign(
             "least 30 starts are to run and a C compiler is found.",
         ),
     ] = None,
+    perturbation: Perturbation = 0.05,
     linear_solver: LinearSolver = "mumps",
     hsl_library: HslLibrary = None,
 ) -> None:
@@ -269,7 +273,7 @@ def campaign(
     settings = settings_from_options(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes, max_iter=max_iter,
-        linear_solver=linear_solver, hsl_library=hsl_library,
+        perturbation=perturbation, linear_solver=linear_solver, hsl_library=hsl_library,
     )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign
     from walk3d.campaign.ranking import top_table

@@ -47,6 +47,15 @@ LinearSolver = Annotated[
         "ma77, ma86, ma97) from an HSL library you have (--hsl-library).",
     ),
 ]
+Perturbation = Annotated[
+    float,
+    typer.Option(
+        "--perturbation",
+        help="Amplitude of the uniform random numbers added to the standing start (Fourier "
+        "coefficients of sin(angle/2)). 0.1 led 10 of 20 random starts to walking optima, the "
+        "default 8 (docs/solver.md, session 9).",
+    ),
+]
 HslLibrary = Annotated[
     str | None,
     typer.Option("--hsl-library", help="Path of libhsl.so or libcoinhsl.so (HSL solvers)."),

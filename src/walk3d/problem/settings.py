@@ -119,7 +119,12 @@ class PredictionSettings(BaseModel):
     """Calibrated ``(μ_x, μ_z, ϖ_x, ϖ_y)`` of Eqs. 7–8 (right-foot signs). None: read at heel
     strike from the total reaction (:mod:`walk3d.contact.transition`)."""
     perturbation: float = 0.05
-    """Amplitude of the uniform random perturbation of the standing initial guess."""
+    """Amplitude of the uniform random perturbation of the standing initial guess (each free
+    Fourier coefficient of the quaternion elements, ``sin(θ/2)``). The paper does not give it.
+    On seeds 0-19, 0.1 led 10 starts to walking optima (7 to C_tor 1.78, 3 to 2.80) and 19
+    converged, against 8 (7 and 1) and 18 with 0.05, at about the same time per start; but seed
+    0, the default prediction, then reaches the 2.80 optimum instead of 1.78, so the default stays
+    0.05 (docs/solver.md, "Session 9")."""
     linear_solver: Literal["mumps", "ma27", "ma57", "ma77", "ma86", "ma97"] = "mumps"
     """IPOPT's sparse symmetric indefinite solver for its Newton systems. MUMPS ships inside
     CasADi's wheel and is what every figure in docs/solver.md used: it is 56-62 % of a stage's
@@ -171,6 +176,10 @@ class PredictionSettings(BaseModel):
                 f"free-moment radius must be in [0, 0.1] m, got {self.free_moment_radius}",
             ),
             (0 < self.smoothing < 0.1, f"smoothing must be in (0, 0.1), got {self.smoothing}"),
+            (
+                0 <= self.perturbation <= 0.5,
+                f"perturbation must be in [0, 0.5], got {self.perturbation}",
+            ),
             (
                 min(
                     self.max_iter,
