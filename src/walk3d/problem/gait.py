@@ -123,21 +123,19 @@ def evaluate(
     w_exp = qt.qrot(q_exp[0], w_exp_b)
 
     ankle_other = p_chain[0]
-    if dynamics:
-        inertial = inertial_loads(body, pose)
-        total = total_ground_reaction(body, pose)
+    zero = 0.0 * ankle_other[0]
+    z3 = (zero, zero, zero)
+    inertial = inertial_loads(body, pose) if dynamics else None
+    total = total_ground_reaction(body, pose) if dynamics or balance else (z3, z3)
+    if dynamics or balance and split_total:  # the trailing foot's share from its heel strike
         hs = heel_strike_wrench(total, ankle_other)
         root_w, other_w = split(total, decay, hs if w0 is None else w0, ankle_other)
+    else:  # the root foot carries the whole total (zero in a geometry-only stage)
+        root_w, hs, other_w = total, (z3, z3), (z3, z3)
+    if dynamics:
         loads = joint_loads(body, pose, {i_root: root_w, i_other: other_w}, inertial=inertial)
         moments = resolve_joint_moments(body, pose, loads)
     else:
-        zero = 0.0 * ankle_other[0]
-        z3 = (zero, zero, zero)
-        total = root_w = total_ground_reaction(body, pose) if balance else (z3, z3)
-        hs = other_w = (z3, z3)
-        if balance and split_total:
-            hs = heel_strike_wrench(total, ankle_other)
-            root_w, other_w = split(total, decay, hs if w0 is None else w0, ankle_other)
         moments = [z3] * len(body.joints)
     pts = body.foot.points(other)
     return GaitState(
