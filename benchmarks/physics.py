@@ -47,8 +47,8 @@ def main() -> int:
     y = rng.uniform(-0.1, 0.1, (nlp.N_Y, N))
     w0 = np.tile([[0.05], [1.0], [0.0], [0.0], [0.0], [0.02]], (1, N))
     hw = np.full((1, N), 0.08)
-    p = np.vstack([np.linspace(1, 0, N), np.full(N, -0.7)])
     omega = 2 * np.pi / s.period
+    p = np.vstack([np.linspace(1, 0, N), np.full(N, -0.7), np.full(N, omega)])
 
     def numpy_eval():
         st = nlp.state_at(body, list(y), list(w0), hw[0], p[0], p[1], omega)

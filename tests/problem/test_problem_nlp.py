@@ -26,16 +26,16 @@ def _random_node(seed):
     y = rng.uniform(-0.1, 0.1, nlp.N_Y)
     w0 = np.array([0.05, 1.0, 0.01, 0.02, 0.01, 0.03])
     t = rng.uniform(0.0, 0.5, nlp.N_T)
-    return y, w0, 0.07, np.array([0.6, -0.7]), t
+    return y, w0, 0.07, np.array([0.6, -0.7, 2 * np.pi / 1.3]), t  # [decay, anchor_x, ω]
 
 
 def test_symbolic_node_function_matches_numpy_evaluation(setup):
     s, body, fn = setup
     y, w0, hw, p, t = _random_node(1)
     g, f = (np.array(v).ravel() for v in fn(y, w0, hw, p, t))
-    omega = 2 * np.pi / s.period
+    # ω comes from the node parameters (here T = 1.3 s, not the settings' 1.08 s)
     st = nlp.state_at(body, [np.array([v]) for v in y], [np.array([v]) for v in w0], hw,
-                      p[0], p[1], omega)  # fmt: skip
+                      p[0], p[1], p[2])  # fmt: skip
     g_np, f_np, starts = nlp.node_outputs(body, s, st)
     g_np = [float(np.squeeze(v)) for v in g_np]
     np.testing.assert_allclose(g[: len(g_np)], g_np, rtol=1e-10, atol=1e-12)
@@ -103,7 +103,7 @@ def test_balance_split_shares_the_reaction_as_the_full_stage(setup, decay):
     (the default) the support rows hold the total under both feet and differ."""
     s, body, full = setup
     y, w0, hw, p, t = _random_node(3)
-    p = np.array([decay, p[1]])
+    p = np.array([decay, p[1], p[2]])
     R = nlp.G_ROWS
     rows = np.r_[R["root_force"], R["other_force"], R["hs_wrench"], R["root_support"],
                  R["other_support"]]  # fmt: skip

@@ -139,7 +139,9 @@ def test_switch_and_location(monkeypatch, tmp_path):
 def test_key_follows_the_model_not_the_solver_options():
     base = _key(SETTINGS)
     assert base == _key(SETTINGS.model_copy(update={"nodes": 20, "max_iter": 50, "tol": 1e-8}))
-    for change in [{"mass": 70.0}, {"criterion": "en"}, {"period": 1.1},
+    descriptors = {"speed": 1.1, "period": 1.2, "double_support": 0.2}  # node parameters
+    assert base == _key(SETTINGS.model_copy(update=descriptors))
+    for change in [{"mass": 70.0}, {"criterion": "en"},
                    {"transition_ratios": (0.2, 0.05, 0.1, 0.3)}]:  # fmt: skip
         assert _key(SETTINGS.model_copy(update=change)) != base, change
 
@@ -168,3 +170,21 @@ def test_model_functions_do_not_read_the_fields_left_out_of_the_key(recorded):
                                    for h in (True, False)}  # fmt: skip
     assert read and not read & solver.RUNTIME_FIELDS, read & solver.RUNTIME_FIELDS
     assert read <= set(PredictionSettings.model_fields) | {"stride_length"}
+
+
+def test_gait_descriptors_leave_the_node_functions_unchanged(recorded):
+    """V, T and Td reach the node functions as node parameters (nlp.node_params), so the
+    functions, and with them the key of their compiled derivatives (walk3d compile), are the
+    same for any descriptors; the body is not a parameter, so another mass changes them."""
+    fns, _ = recorded
+    other = SETTINGS.model_copy(update={"speed": 1.1, "period": 1.25, "double_support": 0.2})
+    assert other.stride_length != SETTINGS.stride_length
+    again = nlp.model_functions(body_for(other), other)
+    assert {k: f.serialize() for k, f in again.items()} == {
+        k: f.serialize() for k, f in fns.items()
+    }
+    for kind in solver.COMPILED_NODES:
+        assert solver._compiled_key(again, other, kind) == solver._compiled_key(fns, SETTINGS, kind)
+    heavier = SETTINGS.model_copy(update={"mass": 80.0})
+    node = nlp.node_function(body_for(heavier), heavier)
+    assert node.serialize() != fns[nlp._node_name(True, True, False)].serialize()

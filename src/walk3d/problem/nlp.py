@@ -56,6 +56,10 @@ G_ROWS = {
 }
 N_G = 101
 N_T = layout.N_T
+N_P = 3
+"""Node parameters ``p = [decay, anchor_x, ω]`` (:func:`node_params`). The cycle frequency
+``ω = 2π/T`` is a parameter, not a constant of the node function, so that the node function,
+and the derivatives compiled from it (``walk3d compile``), serve every V, T and Td of a body."""
 BALL_NORM_MAX = 0.97
 EN_SCALE = 100.0  # C_en is divided by this in the solver's objective (J -> O(1))
 
@@ -179,8 +183,8 @@ def node_function(
     with_hs: bool = True,
     balance: bool = True,
 ) -> ca.Function:
-    """``walk3d_node(y[78], w0[6], hw, p[2], t[24]) -> (g[N_G], f[2])`` in SX,
-    ``p = [decay, anchor_x]``.
+    """``walk3d_node(y[78], w0[6], hw, p[3], t[24]) -> (g[N_G], f[2])`` in SX,
+    ``p = [decay, anchor_x, ω]`` (:data:`N_P`).
 
     Criterion form (``settings.absolute``):
 
@@ -203,12 +207,11 @@ def node_function(
     y = ca.SX.sym("y", N_Y)
     w0 = ca.SX.sym("w0", 6)
     hw = ca.SX.sym("hw")
-    p = ca.SX.sym("p", 2)
+    p = ca.SX.sym("p", N_P)
     t = ca.SX.sym("t", N_T)
-    omega = 2 * np.pi / settings.period
     yl, w0l = [y[i] for i in range(N_Y)], [w0[i] for i in range(6)]
     per_foot = per_foot_loads(settings, dynamics, balance)
-    st = state_at(body, yl, w0l, hw, p[0], p[1], omega, dynamics, balance, per_foot)
+    st = state_at(body, yl, w0l, hw, p[0], p[1], p[2], dynamics, balance, per_foot)
     g, f, starts = node_outputs(body, settings, st)
     if not dynamics:
         n = layout.N_COORD
@@ -263,6 +266,12 @@ def model_functions(body: BodyModel, settings: PredictionSettings) -> dict[str, 
     return fns
 
 
+def node_params(settings: PredictionSettings, sch) -> np.ndarray:
+    """``(N_P, n_nodes)``: each node's ``[decay, anchor_x, ω]`` (:data:`N_P`)."""
+    omega = np.full(sch.n, 2 * np.pi / settings.period)
+    return np.stack([sch.decay, sch.anchor_other_x, omega])
+
+
 def lifting_maps(settings: PredictionSettings, sch) -> np.ndarray:
     """``(n_nodes, 78, N_X)`` maps from the coefficients to each node's ``Y_k`` (values, rates
     / ω, accelerations / ω²)."""
@@ -309,7 +318,7 @@ def build_nlp(
     hw = x[layout.I_HALF_STEP]
     lift_mat = ca.sparsify(ca.DM(lift.reshape(-1, layout.N_X)))
     g_lift = ca.vec(ys) - ca.mtimes(lift_mat, x)
-    params = ca.DM(np.stack([sch.decay, sch.anchor_other_x]))
+    params = ca.DM(node_params(settings, sch))
     g0, f0 = node0(ys[:, 0], w0, hw, params[:, 0], ts[:, 0])
     rest = n_nodes - 1
     mapped = node.map(rest, "thread", settings.threads) if settings.threads > 1 else node.map(rest)

@@ -30,7 +30,7 @@ class _Dense:
         node = nlp.node_function(sv.body, settings, dynamics)
         self.n = sv.schedule.n
         self.fn = node.map(self.n)
-        self.params = np.stack([sv.schedule.decay, sv.schedule.anchor_other_x])
+        self.params = nlp.node_params(settings, sv.schedule)
         self.crit = 0 if settings.criterion == "tor" else 1
         self.step = sv.schedule.step
         b = sv.bounds if dynamics else sv.bounds_balance

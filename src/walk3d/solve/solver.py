@@ -224,11 +224,15 @@ RUNTIME_FIELDS = frozenset({
     "full_max_iter", "linear_solver", "hsl_library",
     "balance_progress_check",
     "perturbation", "max_iter", "tol",
+    "speed", "period", "double_support",
 })  # fmt: skip
 """Settings that :func:`walk3d.problem.nlp.model_functions` does not read (they shape the NLP
 around the node functions, the solver options or the start), so they are left out of the
-cache key: settings differing only in these share an entry. A test records the fields that
-``model_functions`` reads (``tests/solve/test_solve_cache.py``)."""
+cache key: settings differing only in these share an entry. The gait descriptors V, T and Td
+are among them: they reach the node functions as node parameters
+(:func:`walk3d.problem.nlp.node_params`), so one entry, and one compiled set of derivatives,
+serves every descriptor. A test records the fields that ``model_functions`` reads
+(``tests/solve/test_solve_cache.py``)."""
 
 
 def _model_key(body: BodyModel, settings: PredictionSettings) -> str:
