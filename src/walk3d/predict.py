@@ -20,6 +20,7 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "converged": bool(outcome.converged),
         "status": outcome.status,
         "iterations": outcome.iterations,
+        "attempts": outcome.attempts,
         "wall_time_s": round(outcome.wall_time_s, 3),
         "stages": outcome.stages,
         "compiled_derivatives": list(outcome.compiled_derivatives),

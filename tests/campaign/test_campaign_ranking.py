@@ -108,6 +108,7 @@ def test_resume_may_add_starts_but_not_change_settings(tmp_path):
         (["--solver", "sqp"], "solver"),
         (["--max-iter", "4"], "max_iter"),
         (["--perturbation", "0.1"], "perturbation"),
+        (["--restarts", "0"], "restarts"),
     ],
 )
 def test_cli_refuses_changed_settings_on_resume(tmp_path, args, word):

@@ -24,6 +24,8 @@ BAD = [
     (["--linear-solver", "ma99"], "linear_solver"),
     (["--perturbation", "-0.1"], "perturbation"),
     (["--perturbation", "2"], "perturbation"),
+    (["--restarts", "-1"], "restarts"),
+    (["--restarts", "11"], "restarts"),
     # an HSL solver whose library cannot be loaded is refused before the solve starts
     (["--linear-solver", "ma57", "--hsl-library", "/nonexistent/libhsl.so"], "HSL solver ma57"),
 ]

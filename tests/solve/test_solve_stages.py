@@ -7,7 +7,8 @@ from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import ipopt
 from walk3d.solve import solver as solver_mod
 
-SETTINGS = PredictionSettings(nodes=6, max_iter=3, balance_max_iter=3)
+SETTINGS = PredictionSettings(nodes=6, max_iter=3, balance_max_iter=3, restarts=0)
+"""Few iterations: no stage converges. Without restarts, so one standing start's stages."""
 
 
 def test_stages_are_built_once_on_first_use_or_in_the_background():
@@ -100,3 +101,24 @@ def test_stage_sequence_of_the_posture_fallback(update, expected):
         assert outcome.stages[1]["status"] == "Maximum_Iterations_Exceeded"
     assert not outcome.converged and outcome.status == outcome.stages[-1]["status"]
     assert outcome.iterations == sum(st["iterations"] for st in outcome.stages)
+
+
+def test_a_start_that_did_not_converge_restarts_from_new_standing_starts():
+    settings = SETTINGS.model_copy(update={"posture_stage": "off", "restarts": 2})
+    outcome = ipopt.solve(settings, seed=0)
+    assert [(st["stage"], st["attempt"]) for st in outcome.stages] == [
+        ("balance", 0), ("full", 0), ("balance", 1), ("full", 1), ("balance", 2), ("full", 2)
+    ]  # fmt: skip
+    assert outcome.attempts == 3 and not outcome.converged
+    assert outcome.iterations == sum(st["iterations"] for st in outcome.stages)
+    # each attempt started elsewhere: its first stage ended elsewhere after as many iterations
+    objectives = [st["objective"] for st in outcome.stages if st["stage"] == "balance"]
+    assert len(set(objectives)) == 3
+    solver = ipopt.build_solver(settings)
+    z = [ipopt.initial_guess(solver, 0, k) for k in range(3)]
+    # attempt 0 is the seed's own start; restarts draw other noise, reproducibly, and not
+    # another seed's start
+    assert np.array_equal(z[0], ipopt.initial_guess(solver, 0))
+    assert np.array_equal(z[1], ipopt.initial_guess(solver, 0, 1))
+    assert not np.allclose(z[0], z[1]) and not np.allclose(z[1], z[2])
+    assert not any(np.allclose(z[k], ipopt.initial_guess(solver, 1)) for k in range(3))

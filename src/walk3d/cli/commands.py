@@ -21,6 +21,7 @@ from walk3d.cli.common import (
     Nodes,
     Period,
     Perturbation,
+    Restarts,
     Sex,
     SolverName,
     Speed,
@@ -147,6 +148,7 @@ def predict(
     grf: TrialGrf = None,
     calibration: CalibrationFile = None,
     perturbation: Perturbation = 0.05,
+    restarts: Restarts = 1,
     linear_solver: LinearSolver = "mumps",
     hsl_library: HslLibrary = None,
 ) -> None:
@@ -164,7 +166,8 @@ def predict(
     settings = settings_from_options(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads,
-        perturbation=perturbation, linear_solver=linear_solver, hsl_library=hsl_library,
+        perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
+        hsl_library=hsl_library,
         **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.predict import predict as run
@@ -257,6 +260,7 @@ def campaign(
         ),
     ] = None,
     perturbation: Perturbation = 0.05,
+    restarts: Restarts = 1,
     linear_solver: LinearSolver = "mumps",
     hsl_library: HslLibrary = None,
 ) -> None:
@@ -273,7 +277,8 @@ def campaign(
     settings = settings_from_options(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes, max_iter=max_iter,
-        perturbation=perturbation, linear_solver=linear_solver, hsl_library=hsl_library,
+        perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
+        hsl_library=hsl_library,
     )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign
     from walk3d.campaign.ranking import top_table

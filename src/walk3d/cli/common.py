@@ -56,6 +56,14 @@ Perturbation = Annotated[
         "default 8 (docs/solver.md, session 9).",
     ),
 ]
+Restarts = Annotated[
+    int,
+    typer.Option(
+        "--restarts",
+        help="Times a start that did not converge is tried again from a new standing start "
+        "(the seed's next random stream; 0: a single try, as in the paper).",
+    ),
+]
 HslLibrary = Annotated[
     str | None,
     typer.Option("--hsl-library", help="Path of libhsl.so or libcoinhsl.so (HSL solvers)."),

@@ -125,6 +125,12 @@ class PredictionSettings(BaseModel):
     converged, against 8 (7 and 1) and 18 with 0.05, at about the same time per start; but seed
     0, the default prediction, then reaches the 2.80 optimum instead of 1.78, so the default stays
     0.05 (docs/solver.md, "Session 9")."""
+    restarts: int = 1
+    """How often a start whose final stage did not converge is tried again, each time from a
+    new standing start (the seed's next independent noise stream, so still reproducible from
+    the seed; :func:`walk3d.solve.ipopt.initial_guess`). 0: one try, as in the paper. A
+    converged start never restarts, so this only adds time to starts that would have failed.
+    """
     linear_solver: Literal["mumps", "ma27", "ma57", "ma77", "ma86", "ma97"] = "mumps"
     """IPOPT's sparse symmetric indefinite solver for its Newton systems. MUMPS ships inside
     CasADi's wheel and is what every figure in docs/solver.md used: it is 56-62 % of a stage's
@@ -179,6 +185,10 @@ class PredictionSettings(BaseModel):
             (
                 0 <= self.perturbation <= 0.5,
                 f"perturbation must be in [0, 0.5], got {self.perturbation}",
+            ),
+            (
+                0 <= self.restarts <= 10,
+                f"restarts must be an integer in [0, 10], got {self.restarts}",
             ),
             (
                 min(

@@ -47,15 +47,22 @@ class SolveOutcome:
     wall_time_s: float
     stages: list[dict] = field(default_factory=list)
     solver: str = "ipopt"
+    attempts: int = 1
+    """Standing starts tried (1 + restarts used; ``settings.restarts``)."""
     max_constraint_violation: float = float("nan")
     compiled_derivatives: list[str] = field(default_factory=list)
     """NLPs whose node derivatives ran as compiled C (``walk3d compile``), not in CasADi's VM."""
 
 
-def initial_guess(solver: Solver, seed: int) -> np.ndarray:
-    """Upright standing plus uniform noise: the NLP start vector ``z`` for ``seed``."""
+def initial_guess(solver: Solver, seed: int, attempt: int = 0) -> np.ndarray:
+    """Upright standing plus uniform noise: the NLP start vector ``z`` for ``seed``.
+
+    ``attempt`` k ≥ 1 (a restart, ``settings.restarts``) draws the noise from the seed's k-th
+    independent stream, ``numpy.random.default_rng([seed, k])``, so every attempt of every
+    start is reproducible from its seed and differs from the other seeds' starts.
+    """
     s = solver.settings
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(seed if attempt == 0 else [seed, attempt])
     x0 = np.zeros(layout.N_X)
     x0[: layout.I_HALF_STEP] = rng.uniform(-s.perturbation, s.perturbation, layout.I_HALF_STEP)
     x0[layout.fixed_zero_mask()] = 0.0
@@ -137,7 +144,10 @@ def solve(
 ) -> SolveOutcome:
     """Predict one gait cycle from the standing start of ``seed``.
 
-    ``converged`` is True only when the final (full) stage reports success. ``on_stage``
+    ``converged`` is True only when the final (full) stage reports success. A start whose
+    final stage did not converge is tried again from a new standing start (the seed's next
+    noise stream, :func:`initial_guess`), at most ``settings.restarts`` times; each stage's
+    record carries its ``attempt``. ``on_stage``
     receives progress messages: each stage as it starts, then, every IPOPT iteration, the
     stage's message with its iteration, objective and largest constraint violation.
     """
@@ -154,7 +164,6 @@ def solve(
     note("building the model")
     solver = build_solver(settings, method)
     t0 = time.perf_counter()
-    z_stand = initial_guess(solver, seed)
     stages: list[dict] = []
 
     check = settings.balance_progress_check
@@ -170,7 +179,7 @@ def solve(
         stages.append(info)
         return z, info
 
-    def through_posture() -> tuple[np.ndarray, dict]:
+    def through_posture(z_stand: np.ndarray) -> tuple[np.ndarray, dict]:
         note("stage 0: walking posture (geometry only)")
         z, _ = run("posture", z_stand, "stage 0 (posture)")
         note("stage 1/2: balance, from the walking posture")
@@ -182,24 +191,39 @@ def solve(
         note(f"stage 2/2: minimizing {crit}")
         return run("full", full_stage_start(solver, z), f"stage 2/2 ({crit})")
 
-    fallback = settings.posture_stage == "fallback"
-    if settings.posture_stage == "first":
-        z, info1 = through_posture()
-    else:
-        name = "balance_direct" if fallback else "balance"
-        solver.stage(name)
-        solver.prepare("full")  # built while the balance stage solves
-        note("stage 1/2: balance (walking posture, total reaction under the feet)")
-        z, info1 = run(name, z_stand, "stage 1/2 (balance)")
-    retry = fallback  # one retry through the posture stage, unless the fallback used it
-    if fallback and info1["status"] not in IPOPT_SUCCESS:
-        z, info1 = through_posture()
-        retry = False
-    z, info2 = full(z)
-    if retry and info2["status"] not in IPOPT_SUCCESS:
-        note("the full stage did not converge: retrying from standing through the posture stage")
-        z, _ = through_posture()
+    def attempt(z_stand: np.ndarray) -> tuple[np.ndarray, dict]:
+        """The stages from one standing start."""
+        fallback = settings.posture_stage == "fallback"
+        if settings.posture_stage == "first":
+            z, info1 = through_posture(z_stand)
+        else:
+            name = "balance_direct" if fallback else "balance"
+            solver.stage(name)
+            solver.prepare("full")  # built while the balance stage solves
+            note("stage 1/2: balance (walking posture, total reaction under the feet)")
+            z, info1 = run(name, z_stand, "stage 1/2 (balance)")
+        retry = fallback  # one retry through the posture stage, unless the fallback used it
+        if fallback and info1["status"] not in IPOPT_SUCCESS:
+            z, info1 = through_posture(z_stand)
+            retry = False
         z, info2 = full(z)
+        if retry and info2["status"] not in IPOPT_SUCCESS:
+            note("the full stage did not converge: retrying from standing through the posture "
+                 "stage")  # fmt: skip
+            z, _ = through_posture(z_stand)
+            z, info2 = full(z)
+        return z, info2
+
+    tries = settings.restarts + 1
+    for k in range(tries):
+        if k:
+            note(f"not converged: restarting from a new standing start ({k + 1} of {tries})")
+        first = len(stages)
+        z, info2 = attempt(initial_guess(solver, seed, k))
+        for st in stages[first:]:
+            st["attempt"] = k
+        if info2["status"] in IPOPT_SUCCESS:
+            break
     return SolveOutcome(
         x=z[: layout.N_X].copy(),
         z=z,
@@ -209,6 +233,7 @@ def solve(
         wall_time_s=time.perf_counter() - t0,
         stages=stages,
         solver=method,
+        attempts=k + 1,
         max_constraint_violation=info2["max_constraint_violation"],
         compiled_derivatives=sorted(solver.compiled),
     )

@@ -223,7 +223,7 @@ RUNTIME_FIELDS = frozenset({
     "loop_check_tolerance", "posture_stage", "balance_max_iter", "posture_balance_max_iter",
     "full_max_iter", "linear_solver", "hsl_library",
     "balance_progress_check",
-    "perturbation", "max_iter", "tol",
+    "perturbation", "restarts", "max_iter", "tol",
     "speed", "period", "double_support",
 })  # fmt: skip
 """Settings that :func:`walk3d.problem.nlp.model_functions` does not read (they shape the NLP
