@@ -1,4 +1,5 @@
-"""``walk3d body``, ``walk3d predict``, ``walk3d compile`` and ``walk3d campaign``."""
+"""``walk3d body``, ``walk3d predict``, ``walk3d compile``, ``walk3d cache`` and
+``walk3d campaign``."""
 
 from __future__ import annotations
 
@@ -212,9 +213,9 @@ def compile_model(
     nodes: Nodes = 20,
 ) -> None:
     """Compile the solver's derivatives to C for these options and keep them in the model
-    cache. Later predictions and campaigns with the same body, descriptors and criterion use
-    them (about twice as fast a solve). Takes minutes once; needs a C compiler ($CC or cc).
-    Exit code 2 without a compiler or for bad input."""
+    cache. Later predictions and campaigns with the same body and criterion use them, at any
+    speed, period and double support (about twice as fast a solve). Takes minutes once; needs
+    a C compiler ($CC or cc). Exit code 2 without a compiler or for bad input."""
     settings = settings_from_options(
         criterion, "ipopt", 0, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes,
@@ -222,6 +223,29 @@ def compile_model(
     from walk3d.cli.compile import compile_with_progress
 
     compile_with_progress(settings, console)
+
+
+@app.command(name="cache")
+def cache_info(
+    clear: Annotated[
+        bool, typer.Option("--clear", help="Delete every cached model and compiled library.")
+    ] = False,
+) -> None:
+    """Show the model cache folder ($WALK3D_CACHE_DIR, else the user cache folder) and what it
+    holds; with --clear, delete its entries (always safe: they are rebuilt, or recompiled with
+    walk3d compile, when needed)."""
+    from walk3d.io import model_cache
+
+    folder = model_cache.cache_dir()
+    entries = model_cache.cache_entries()
+    size = sum(p.stat().st_size for paths in entries.values() for p in paths)
+    state = "" if model_cache.cache_enabled() else " (off: WALK3D_CACHE)"
+    console.print(f"walk3d cache: {folder}{state}", markup=False, highlight=False)
+    console.print(f"{len(entries['models'])} model entries, {len(entries['libraries'])} compiled "
+                  f"libraries, {size / 1e6:.1f} MB")  # fmt: skip
+    if clear:
+        files, freed = model_cache.clear_entries()
+        console.print(f"deleted {files} files, {freed / 1e6:.1f} MB")
 
 
 @app.command()

@@ -22,7 +22,9 @@ and every write failure is logged and ignored: the cache never makes a build fai
 Location: ``$WALK3D_CACHE_DIR``, else the user cache folder (``$XDG_CACHE_HOME/walk3d`` or
 ``~/.cache/walk3d``; ``~/Library/Caches/walk3d`` on macOS; ``%LOCALAPPDATA%\\walk3d\\Cache``
 on Windows). ``WALK3D_CACHE=0`` (or ``false``, ``no``, ``off``) turns the cache off.
-Entries are never pruned; each takes a few MB, and deleting the folder is always safe.
+Entries are never pruned automatically; each takes a few MB (a compiled set of derivatives
+about 60 MB), and deleting them is always safe: ``walk3d cache --clear``
+(:func:`clear_entries`).
 """
 
 from __future__ import annotations
@@ -41,8 +43,8 @@ import numpy as np
 import walk3d
 from walk3d.io._atomic import atomic_write_text
 
-__all__ = ["SCHEMA", "cache_dir", "cache_enabled", "model_key", "read_functions",
-           "write_functions"]  # fmt: skip
+__all__ = ["SCHEMA", "cache_dir", "cache_enabled", "cache_entries", "clear_entries", "model_key",
+           "read_functions", "write_functions"]  # fmt: skip
 
 SCHEMA = 1
 """Raise when the entry format or the set of cached functions changes."""
@@ -171,3 +173,34 @@ def write_functions(key: str, functions: dict[str, ca.Function]) -> Path | None:
     except Exception as exc:  # noqa: BLE001 - a cache that cannot be written is only slower
         log.warning("could not write the model cache entry %s (%s)", path, exc)
         return None
+
+
+ENTRY_PATTERNS = {"models": "model-*.casadi", "libraries": "lib-*.so"}
+"""The cache folder's finished entries by kind: model functions (this module) and compiled
+derivatives (:mod:`walk3d.io.compiled`). Temporaries of writes in progress are not entries."""
+
+
+def cache_entries() -> dict[str, list[Path]]:
+    """The finished entries in :func:`cache_dir` by kind (:data:`ENTRY_PATTERNS`)."""
+    folder = cache_dir()
+    if not folder.is_dir():
+        return {kind: [] for kind in ENTRY_PATTERNS}
+    return {kind: sorted(folder.glob(pattern)) for kind, pattern in ENTRY_PATTERNS.items()}
+
+
+def clear_entries() -> tuple[int, int]:
+    """Delete every finished entry of the cache folder: ``(files, bytes)`` deleted.
+
+    Other files, and the temporaries of writes or compiles in progress, are left alone, so a
+    running solve or compile is not disturbed (a process that has loaded an entry keeps it).
+    """
+    files = size = 0
+    for paths in cache_entries().values():
+        for path in paths:
+            try:
+                n = path.stat().st_size
+                path.unlink()
+            except FileNotFoundError:
+                continue
+            files, size = files + 1, size + n
+    return files, size
