@@ -135,8 +135,8 @@ def main(argv: list[str] | None = None) -> int:
                                 settings.mass)  # fmt: skip
         crit = ev.criteria[f"C_{settings.criterion}"]["total"]
         runs.append({"seed": seed, "converged": out.converged, "status": out.status,
-                     "iterations": out.iterations, "wall_time_s": out.wall_time_s,
-                     "criterion": crit, "stages": out.stages,
+                     "iterations": out.iterations, "attempts": out.attempts,
+                     "wall_time_s": out.wall_time_s, "criterion": crit, "stages": out.stages,
                      "contact_residual_m": ev.contact_residual_m, **checks})  # fmt: skip
         print(f"seed {seed:3d}: {out.status:28s} {out.iterations:4d} it {out.wall_time_s:6.1f} s "
               f"C_{settings.criterion} {crit:8.3f} knee {checks['knee_swing_max_deg']:4.0f} "

@@ -23,7 +23,7 @@ Location: ``$WALK3D_CACHE_DIR``, else the user cache folder (``$XDG_CACHE_HOME/w
 ``~/.cache/walk3d``; ``~/Library/Caches/walk3d`` on macOS; ``%LOCALAPPDATA%\\walk3d\\Cache``
 on Windows). ``WALK3D_CACHE=0`` (or ``false``, ``no``, ``off``) turns the cache off.
 Entries are never pruned automatically; each takes a few MB (a compiled set of derivatives
-about 60 MB), and deleting them is always safe: ``walk3d cache --clear``
+about 50 MB), and deleting them is always safe: ``walk3d cache --clear``
 (:func:`clear_entries`).
 """
 

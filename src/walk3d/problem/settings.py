@@ -130,7 +130,10 @@ class PredictionSettings(BaseModel):
     new standing start (the seed's next independent noise stream, so still reproducible from
     the seed; :func:`walk3d.solve.ipopt.initial_guess`). 0: one try, as in the paper. A
     converged start never restarts, so this only adds time to starts that would have failed.
-    """
+    Measured (session 10): seeds 11 and 17 of the defaults, the benchmark's two failures,
+    converged on their second attempt (C_tor 6.87 and the walking 1.777; 180 and 190 s with
+    one thread), and so did seed 0 at V = 1.4 m/s, T = 1.2 s, Td = 0.18 s (4.52, 145 s); seed 0
+    at V = 0.8 m/s, T = 1.25 s, Td = 0.25 s failed both attempts (226 s)."""
     linear_solver: Literal["mumps", "ma27", "ma57", "ma77", "ma86", "ma97"] = "mumps"
     """IPOPT's sparse symmetric indefinite solver for its Newton systems. MUMPS ships inside
     CasADi's wheel and is what every figure in docs/solver.md used: it is 56-62 % of a stage's
