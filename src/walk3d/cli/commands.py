@@ -236,13 +236,11 @@ def cache_info(
     walk3d compile, when needed)."""
     from walk3d.io import model_cache
 
-    folder = model_cache.cache_dir()
-    entries = model_cache.cache_entries()
-    size = sum(p.stat().st_size for paths in entries.values() for p in paths)
+    use = model_cache.cache_usage()
     state = "" if model_cache.cache_enabled() else " (off: WALK3D_CACHE)"
-    console.print(f"walk3d cache: {folder}{state}", markup=False, highlight=False)
-    console.print(f"{len(entries['models'])} model entries, {len(entries['libraries'])} compiled "
-                  f"libraries, {size / 1e6:.1f} MB")  # fmt: skip
+    console.print(f"walk3d cache: {model_cache.cache_dir()}{state}", markup=False, highlight=False)
+    console.print(f"{use['models']} model entries, {use['libraries']} compiled libraries, "
+                  f"{use['bytes'] / 1e6:.1f} MB")  # fmt: skip
     if clear:
         files, freed = model_cache.clear_entries()
         console.print(f"deleted {files} files, {freed / 1e6:.1f} MB")

@@ -43,8 +43,8 @@ import numpy as np
 import walk3d
 from walk3d.io._atomic import atomic_write_text
 
-__all__ = ["SCHEMA", "cache_dir", "cache_enabled", "cache_entries", "clear_entries", "model_key",
-           "read_functions", "write_functions"]  # fmt: skip
+__all__ = ["SCHEMA", "cache_dir", "cache_enabled", "cache_entries", "cache_usage",
+           "clear_entries", "model_key", "read_functions", "write_functions"]  # fmt: skip
 
 SCHEMA = 1
 """Raise when the entry format or the set of cached functions changes."""
@@ -186,6 +186,21 @@ def cache_entries() -> dict[str, list[Path]]:
     if not folder.is_dir():
         return {kind: [] for kind in ENTRY_PATTERNS}
     return {kind: sorted(folder.glob(pattern)) for kind, pattern in ENTRY_PATTERNS.items()}
+
+
+def cache_usage() -> dict[str, int]:
+    """Entries by kind (:data:`ENTRY_PATTERNS`) and their total size: ``{kind: count, ...,
+    "bytes": size}``; an entry deleted meanwhile is not counted."""
+    usage, size = {}, 0
+    for kind, paths in cache_entries().items():
+        usage[kind] = 0
+        for path in paths:
+            try:
+                size += path.stat().st_size
+            except FileNotFoundError:
+                continue
+            usage[kind] += 1
+    return usage | {"bytes": size}
 
 
 def clear_entries() -> tuple[int, int]:
