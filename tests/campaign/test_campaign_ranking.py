@@ -94,6 +94,12 @@ def test_resume_may_add_starts_but_not_change_settings(tmp_path):
         store.open_campaign(out, TINY.model_copy(update={"speed": 1.2}), 5, 8, "ipopt")
     with pytest.raises(store.CampaignMismatch, match="base_seed"):
         store.open_campaign(out, TINY, 0, 8, "ipopt")
+    # a campaign made before a setting existed is refused, naming that setting
+    stored = store.read_campaign(out)
+    del stored["settings"]["restarts"]
+    store.write_json(out / store.CAMPAIGN_FILE, stored)
+    with pytest.raises(store.CampaignMismatch, match="earlier walk3d.* restarts; use a new --out$"):
+        store.open_campaign(out, TINY, 5, 8, "ipopt")
     (tmp_path / "other").mkdir()
     (tmp_path / "other" / "file.txt").write_text("x")
     with pytest.raises(store.CampaignMismatch, match="not a campaign"):

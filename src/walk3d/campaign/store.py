@@ -133,7 +133,8 @@ def open_campaign(
 
     Raises:
         CampaignMismatch: the folder holds a campaign with other settings, criterion, solver
-            or base seed, or is a non-empty folder that is not a campaign.
+            or base seed, or one made by an earlier walk3d without a setting added since
+            (e.g. ``restarts``), or is a non-empty folder that is not a campaign.
     """
     out = Path(out_dir)
     requested = {
@@ -150,6 +151,10 @@ def open_campaign(
             stored = read_campaign(out)
         except (OSError, ValueError) as exc:
             raise CampaignMismatch(f"{path} is unreadable ({exc}); use a new --out") from None
+        added = sorted(set(requested["settings"]) - set(stored.get("settings", {})))
+        if added:  # settings introduced since: its starts may have run otherwise
+            raise CampaignMismatch(f"{out} holds a campaign made by an earlier walk3d, without "
+                                   f"the setting {', '.join(added)}; use a new --out")  # fmt: skip
         diff = _mismatch(stored, requested)
         if diff is not None:
             raise CampaignMismatch(
