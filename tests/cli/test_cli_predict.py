@@ -1,6 +1,7 @@
 """walk3d predict and walk3d compile: bad input is one line and exit code 2 (no solve or
 compile is started)."""
 
+import json
 import os
 import subprocess
 import sys
@@ -26,6 +27,7 @@ BAD = [
     (["--perturbation", "2"], "perturbation"),
     (["--restarts", "-1"], "restarts"),
     (["--restarts", "11"], "restarts"),
+    (["--max-iter", "0"], "max_iter"),
     # an HSL solver whose library cannot be loaded is refused before the solve starts
     (["--linear-solver", "ma57", "--hsl-library", "/nonexistent/libhsl.so"], "HSL solver ma57"),
 ]
@@ -66,3 +68,22 @@ def test_campaign_refuses_an_unusable_hsl_solver_before_starting(tmp_path):
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and "HSL solver ma27" in lines[0], r.stderr
     assert not out.exists()
+
+
+def test_a_prediction_that_did_not_converge_is_written_labelled_and_exits_1(tmp_path):
+    """Three iterations per stage cannot converge: after its restart the start is written
+    anyway, labelled as not converged everywhere, and the command exits with code 1."""
+    out = tmp_path / "o"
+    cmd = [sys.executable, "-m", "walk3d.cli", "predict", "--out", str(out), "--nodes", "6",
+           "--max-iter", "3", "--threads", "1"]  # fmt: skip
+    env = os.environ | {"OPENBLAS_NUM_THREADS": "1", "COLUMNS": "200"}
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=env)
+    assert r.returncode == 1, r.stderr
+    assert "Traceback" not in r.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["converged"] is False and summary["attempts"] == 2
+    assert {st["attempt"] for st in summary["stages"]} == {0, 1}
+    assert summary["status"] == summary["stages"][-1]["status"] != "Solve_Succeeded"
+    assert "NO - not a valid prediction" in r.stdout and "2 standing starts" in r.stdout
+    for name in ("result.npz", "motion.mot", "grf.mot", "summary.png"):
+        assert (out / name).is_file(), name

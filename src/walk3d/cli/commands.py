@@ -19,6 +19,7 @@ from walk3d.cli.common import (
     HslLibrary,
     LinearSolver,
     Mass,
+    MaxIter,
     Nodes,
     Period,
     Perturbation,
@@ -150,6 +151,7 @@ def predict(
     calibration: CalibrationFile = None,
     perturbation: Perturbation = 0.05,
     restarts: Restarts = 1,
+    max_iter: MaxIter = 800,
     linear_solver: LinearSolver = "mumps",
     hsl_library: HslLibrary = None,
 ) -> None:
@@ -166,7 +168,7 @@ def predict(
         threads = min(available_cores(), 64)
     settings = settings_from_options(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
-        mass=mass, height=height, sex=sex, nodes=nodes, threads=threads,
+        mass=mass, height=height, sex=sex, nodes=nodes, threads=threads, max_iter=max_iter,
         perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library,
         **_calibration_fields(calibration),
@@ -181,7 +183,9 @@ def predict(
     t.add_column("quantity")
     t.add_column("value")
     verdict = "yes" if s["converged"] else "NO - not a valid prediction"
-    t.add_row("converged", f"{verdict} ({s['status']}, {s['iterations']} iterations)")
+    tries = s.get("attempts", 1)
+    after = f", {tries} standing starts (--restarts)" if tries > 1 else ""
+    t.add_row("converged", f"{verdict} ({s['status']}, {s['iterations']} iterations{after})")
     t.add_row("wall time", f"{s['wall_time_s']:.1f} s")
     if solver == "ipopt":
         comp = s.get("compiled_derivatives") or []
@@ -270,9 +274,7 @@ def campaign(
     sex: Sex = "male",
     solver: SolverName = "ipopt",
     nodes: Nodes = 20,
-    max_iter: Annotated[
-        int, typer.Option("--max-iter", help="Advanced: solver iteration limit per stage.")
-    ] = 800,
+    max_iter: MaxIter = 800,
     compile_c: Annotated[
         bool | None,
         typer.Option(

@@ -56,6 +56,9 @@ Perturbation = Annotated[
         "default 8 (docs/solver.md, session 9).",
     ),
 ]
+MaxIter = Annotated[
+    int, typer.Option("--max-iter", help="Advanced: solver iteration limit per stage.")
+]
 Restarts = Annotated[
     int,
     typer.Option(
