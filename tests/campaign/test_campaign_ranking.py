@@ -129,3 +129,19 @@ def test_cli_refuses_changed_settings_on_resume(tmp_path, args, word):
     assert len(lines) == 1 and word in lines[0] and lines[0].startswith("walk3d: error:"), r.stderr
     assert (out / "campaign.json").read_bytes() == before
     assert not list(store.starts_dir(out).iterdir())
+
+
+@pytest.mark.parametrize(
+    "args,word",
+    [(["--starts", "0"], "--starts"), (["--workers", "0"], "--workers"),
+     (["--max-iter", "0"], "max_iter"), (["--restarts", "-1"], "restarts")],
+)  # fmt: skip
+def test_cli_refuses_bad_campaign_options_before_creating_the_folder(tmp_path, args, word):
+    out = tmp_path / "c"
+    base = ["--starts", "2"] if args[0] != "--starts" else []
+    cmd = [sys.executable, "-m", "walk3d.cli", "campaign", *base, "--out", str(out), *args]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and word in lines[0] and "Traceback" not in r.stderr, r.stderr
+    assert not out.exists()

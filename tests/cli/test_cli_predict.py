@@ -1,5 +1,5 @@
 """walk3d predict and walk3d compile: bad input is one line and exit code 2 (no solve or
-compile is started)."""
+compile is started); a prediction that did not converge is written, labelled and exits 1."""
 
 import json
 import os

@@ -183,7 +183,7 @@ def predict(
     t.add_column("quantity")
     t.add_column("value")
     verdict = "yes" if s["converged"] else "NO - not a valid prediction"
-    tries = s.get("attempts", 1)
+    tries = s["attempts"]
     after = f", {tries} standing starts (--restarts)" if tries > 1 else ""
     t.add_row("converged", f"{verdict} ({s['status']}, {s['iterations']} iterations{after})")
     t.add_row("wall time", f"{s['wall_time_s']:.1f} s")
@@ -296,8 +296,6 @@ def campaign(
         fail(f"--starts must be a positive integer, got {starts}")
     if workers is not None and workers < 1:
         fail(f"--workers must be a positive integer, got {workers}")
-    if max_iter < 1:
-        fail(f"--max-iter must be a positive integer, got {max_iter}")
     settings = settings_from_options(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes, max_iter=max_iter,
