@@ -76,13 +76,14 @@ def test_compile_then_build_uses_the_compiled_blocks(fake_compiler):
 
 
 def test_compiled_libraries_follow_the_node_functions(fake_compiler):
-    """The key is what the blocks are made of: another body needs its own libraries; settings
-    that leave the node functions unchanged (nodes, threads; the speed, which enters through
-    node parameters) share them."""
+    """The key is what the blocks are made of: another sex's body needs its own libraries;
+    settings that leave the node functions unchanged (nodes, threads; the speed, which enters
+    through node parameters; mass and stature, solved as the reference subject's problem)
+    share them."""
     solver.compile_solver(SETTINGS)
-    other = SETTINGS.model_copy(update={"mass": 80.0})
+    other = SETTINGS.model_copy(update={"sex": "female"})
     assert solver.compiled_status(other)["missing"] == 4 * solver.CHUNKS
     other_criterion = SETTINGS.model_copy(update={"criterion": "tor"})
     assert solver.compiled_status(other_criterion)["missing"] == 4 * solver.CHUNKS
-    for same in ({"nodes": 8, "threads": 2}, {"speed": 1.2}):
+    for same in ({"nodes": 8, "threads": 2}, {"speed": 1.2}, {"mass": 80.0, "height": 1.6}):
         assert solver.compiled_status(SETTINGS.model_copy(update=same))["missing"] == 0

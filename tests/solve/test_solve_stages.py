@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from walk3d.problem import layout, similarity
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import ipopt
 from walk3d.solve import solver as solver_mod
@@ -122,3 +123,20 @@ def test_a_start_that_did_not_converge_restarts_from_new_standing_starts():
     assert np.array_equal(z[1], ipopt.initial_guess(solver, 0, 1))
     assert not np.allclose(z[0], z[1]) and not np.allclose(z[1], z[2])
     assert not any(np.allclose(z[k], ipopt.initial_guess(solver, 1)) for k in range(3))
+
+
+def test_another_mass_and_stature_are_solved_as_the_reference_subjects_problem(monkeypatch):
+    """solve() builds only the reference subject's NLP (shared node functions, cache entry and
+    compiled derivatives) and returns the subject's x: the same coefficients, the half step
+    width scaled by stature (the similarity itself: tests/problem/test_problem_similarity.py)."""
+    subject = SETTINGS.model_copy(update={"mass": 55.0, "height": 1.6, "speed": 1.2})
+    ref, s = similarity.reference_problem(subject)
+    built = []
+    build = solver_mod.build_solver
+    monkeypatch.setattr(ipopt, "build_solver", lambda st, m: built.append(st) or build(st, m))
+    a = ipopt.solve(subject, seed=4)
+    b = ipopt.solve(ref, seed=4)
+    assert built == [ref, ref]
+    np.testing.assert_array_equal(a.x, similarity.subject_x(b.x, s))
+    assert a.x[layout.I_HALF_STEP] == pytest.approx(b.x[layout.I_HALF_STEP] * 1.6 / 1.77)
+    assert a.iterations == b.iterations

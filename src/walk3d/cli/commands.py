@@ -217,9 +217,10 @@ def compile_model(
     nodes: Nodes = 20,
 ) -> None:
     """Compile the solver's derivatives to C for these options and keep them in the model
-    cache. Later predictions and campaigns with the same body and criterion use them, at any
-    speed, period and double support (about twice as fast a solve). Takes minutes once; needs
-    a C compiler ($CC or cc). Exit code 2 without a compiler or for bad input."""
+    cache. Later predictions and campaigns with the same sex and criterion use them, at any
+    body mass, stature, speed, period and double support (about twice as fast a solve). Takes
+    minutes once; needs a C compiler ($CC or cc). Exit code 2 without a compiler or for bad
+    input."""
     settings = settings_from_options(
         criterion, "ipopt", 0, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes,

@@ -4,7 +4,7 @@ Compiling takes minutes once per model (6.3 min at -O1 on 2 cores for the defaul
 nodes) and makes each solve about twice as fast (docs/solver.md, "Session 6"), so a campaign
 compiles first when it has enough starts to run (:data:`COMPILE_FROM_STARTS`). The libraries
 go to the model cache, where every worker process, and every later ``walk3d predict`` with the
-same model, finds them.
+same sex and criterion (any mass and stature: :mod:`walk3d.problem.similarity`), finds them.
 """
 
 from __future__ import annotations

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from walk3d.problem import layout, nlp
+from walk3d.problem import layout, nlp, similarity
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.progress import Listener, StopRule, bound_violation
 from walk3d.solve.solver import Solver, build_solver
@@ -39,8 +39,10 @@ class SolveOutcome:
     """What a solve returns; ``converged`` is IPOPT's own verdict on the final stage."""
 
     x: np.ndarray
-    """Decision vector (166): coefficients and half step width (see layout)."""
+    """Decision vector (166): coefficients and half step width (see layout), the subject's."""
     z: np.ndarray
+    """The NLP's variables at the end, in the units of the reference subject whose problem was
+    solved (:func:`walk3d.problem.similarity.reference_problem`)."""
     converged: bool
     status: str
     iterations: int
@@ -147,7 +149,8 @@ def solve(
     ``converged`` is True only when the final (full) stage reports success. A start whose
     final stage did not converge is tried again from a new standing start (the seed's next
     noise stream, :func:`initial_guess`), at most ``settings.restarts`` times; each stage's
-    record carries its ``attempt``. ``on_stage``
+    record carries its ``attempt``. Any mass and stature is solved as the reference subject's
+    problem (:mod:`walk3d.problem.similarity`) and ``x`` mapped back. ``on_stage``
     receives progress messages: each stage as it starts, then, every IPOPT iteration, the
     stage's message with its iteration, objective and largest constraint violation.
     """
@@ -162,11 +165,14 @@ def solve(
         )
 
     note("building the model")
-    solver = build_solver(settings, method)
+    # every mass and stature is solved as the reference subject's problem (same node
+    # functions, cache entry and compiled derivatives); x is mapped back at the end
+    ref, scale = similarity.reference_problem(settings)
+    solver = build_solver(ref, method)
     t0 = time.perf_counter()
     stages: list[dict] = []
 
-    check = settings.balance_progress_check
+    check = ref.balance_progress_check
 
     def stop_rule(name: str) -> StopRule | None:
         """The direct balance stage stops early if it is still far from feasible."""
@@ -185,7 +191,7 @@ def solve(
         note("stage 1/2: balance, from the walking posture")
         return run("balance", z, "stage 1/2 (balance)")
 
-    crit = f"C_{settings.criterion}"
+    crit = f"C_{ref.criterion}"
 
     def full(z: np.ndarray) -> tuple[np.ndarray, dict]:
         note(f"stage 2/2: minimizing {crit}")
@@ -193,8 +199,8 @@ def solve(
 
     def attempt(z_stand: np.ndarray) -> tuple[np.ndarray, dict]:
         """The stages from one standing start."""
-        fallback = settings.posture_stage == "fallback"
-        if settings.posture_stage == "first":
+        fallback = ref.posture_stage == "fallback"
+        if ref.posture_stage == "first":
             z, info1 = through_posture(z_stand)
         else:
             name = "balance_direct" if fallback else "balance"
@@ -214,7 +220,7 @@ def solve(
             z, info2 = full(z)
         return z, info2
 
-    tries = settings.restarts + 1
+    tries = ref.restarts + 1
     for k in range(tries):
         if k:
             note(f"not converged: restarting from a new standing start ({k + 1} of {tries})")
@@ -225,7 +231,7 @@ def solve(
         if info2["status"] in IPOPT_SUCCESS:
             break
     return SolveOutcome(
-        x=z[: layout.N_X].copy(),
+        x=similarity.subject_x(z[: layout.N_X], scale),
         z=z,
         converged=info2["status"] in IPOPT_SUCCESS,
         status=info2["status"],

@@ -21,7 +21,7 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.io import compiled, model_cache
-from walk3d.problem import derivatives, nlp
+from walk3d.problem import derivatives, nlp, similarity
 from walk3d.problem.bounds import Bounds, bounded_rows, bounds
 from walk3d.problem.schedule import Schedule, schedule
 from walk3d.problem.settings import PredictionSettings, body_for
@@ -374,7 +374,10 @@ def build_solver(
 
 
 def compiled_status(settings: PredictionSettings) -> dict:
-    """``{"compiled": [kinds], "missing": number of libraries still to compile}``."""
+    """``{"compiled": [kinds], "missing": number of libraries still to compile}`` for the
+    solves of these settings (those of the reference subject, :mod:`walk3d.problem.similarity`,
+    so the same for every mass and stature)."""
+    settings = similarity.reference_problem(settings)[0]
     fns, _ = _model_functions(body_for(settings), settings, True)
     kinds = [k for k in COMPILED_NODES if compiled.load_functions(
         _compiled_key(fns, settings, k), _chunk_names(k)) is not None]  # fmt: skip
@@ -391,8 +394,11 @@ def compile_solver(
     load them. Minutes of compiling (6.3 min for both NLPs at -O1 on 2 cores) for a solve
     about twice as fast (docs/solver.md). ``on_done(name, done, total)`` after each library.
     Returns ``{"compiled": number compiled now, "wall_time_s": ...}``; raises
-    :class:`walk3d.io.compiled.CompileError` when there is no compiler or it fails."""
+    :class:`walk3d.io.compiled.CompileError` when there is no compiler or it fails.
+    What is compiled is the reference subject's problem (:mod:`walk3d.problem.similarity`),
+    which :func:`walk3d.solve.ipopt.solve` solves for every mass and stature of this sex."""
     t0 = time.perf_counter()
+    settings = similarity.reference_problem(settings)[0]
     body = body_for(settings)
     fns, _ = _model_functions(body, settings, True)
     done: list[str] = []

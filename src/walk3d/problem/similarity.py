@@ -1,0 +1,79 @@
+"""Dynamic similarity: every subject's prediction is solved as one reference subject's.
+
+The body model scales exactly (:mod:`walk3d.body.anthropometry`): segment masses and joint
+strengths in proportion to body mass m, every length (segments, joint offsets, foot, roll-over)
+in proportion to stature h. The NLP's rows are normalized by body weight, and the criteria
+by strength (C_tor) or by a fixed power (C_en). So:
+
+* **Mass drops out.** At any m the NLP's rows are those at the reference mass, and C_en (J)
+  is ``m / m_ref`` times the reference's: the same minimizer. The predicted motion does not
+  depend on body mass (forces and moments scale with it); this is a property of the model,
+  not of the solver.
+* **Stature is a change of units.** With ``s = h / h_ref``, a subject walking with
+  ``(V, T, Td)`` moves like the reference subject walking with ``(V, T, Td) / √s`` with every
+  length scaled by ``s`` and time by ``√s``: accelerations, and so forces per body weight, are
+  unchanged, and moments scale by ``s`` (C_tor by ``s√s``, a constant factor). The joint
+  rotations, as Fourier series over the cycle, are the same; only the half step width (m) scales.
+
+:func:`reference_problem` gives the reference subject's settings, which
+:func:`walk3d.solve.ipopt.solve` and ``walk3d compile`` use: one model cache entry and one set
+of compiled derivatives serve every mass and stature of a sex and criterion. The settings'
+lengths are those of the reference stature and scale with the subject's (the free-moment radius,
+the minimum ankle separation, and the solver's bounds on the half step width and loop checks),
+like the foot and hips they describe; for the reference subject nothing changes. With a
+calibrated roll-over (``rollover_s``, measured on one foot) only the mass is replaced.
+The results (:func:`walk3d.results.evaluate.evaluate_cycle`) are always evaluated with the
+subject's own body and descriptors.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from walk3d.problem import layout
+from walk3d.problem.settings import PredictionSettings
+
+REFERENCE_MASS_KG = 68.8
+"""Body mass of the reference subject (the paper's)."""
+REFERENCE_HEIGHT_M = 1.77
+"""Stature of the reference subject (the paper's)."""
+
+
+def length_scale(settings: PredictionSettings) -> float:
+    """``s = h / h_ref`` by which the subject's lengths exceed the reference subject's (1 with a
+    calibrated roll-over, whose stature is not replaced)."""
+    if settings.rollover_s is not None:
+        return 1.0
+    return settings.height / REFERENCE_HEIGHT_M
+
+
+def reference_problem(settings: PredictionSettings) -> tuple[PredictionSettings, float]:
+    """The reference subject's settings whose solution is this subject's, and ``s``.
+
+    Mass and stature become the reference's, the descriptors ``V, T, Td`` are divided by
+    ``√s``; everything else is kept. The reference subject's own settings come back unchanged
+    (the same object), so its solves are exactly those of the settings given.
+    """
+    s = length_scale(settings)
+    if settings.mass == REFERENCE_MASS_KG and s == 1.0:
+        return settings, 1.0
+    update: dict[str, float] = {"mass": REFERENCE_MASS_KG}
+    if s != 1.0:
+        root = math.sqrt(s)
+        update |= {
+            "height": REFERENCE_HEIGHT_M,
+            "speed": settings.speed / root,
+            "period": settings.period / root,
+            "double_support": settings.double_support / root,
+        }
+    return settings.model_copy(update=update), s
+
+
+def subject_x(x_ref: np.ndarray, s: float) -> np.ndarray:
+    """The subject's decision vector (``layout``) from the reference subject's solution: the
+    Fourier coefficients are the same, the half step width (m) is ``s`` times larger."""
+    x = np.array(x_ref, dtype=float, copy=True)
+    x[layout.I_HALF_STEP] *= s
+    return x
