@@ -32,9 +32,11 @@ class PredictionSettings(BaseModel):
     """Foot-floor friction coefficient for |Fx|/Fy and |Fz|/Fy (rubber sole on a lab floor)."""
     free_moment_radius: float = 0.02
     """Effective torsional radius of the shoe sole, m: ``|free moment| ≤ friction × r × Fy``
-    (see :mod:`walk3d.contact.support`; 2 cm allows ~11 N·m at body weight)."""
+    (see :mod:`walk3d.contact.support`; 2 cm allows ~11 N·m at body weight). At the reference
+    stature (1.77 m); it scales with stature, like the foot (:mod:`walk3d.problem.similarity`)."""
     min_ankle_separation: float = 0.06
-    """Minimum lateral distance between the ankle joint centres, m (feet must not cross)."""
+    """Minimum lateral distance between the ankle joint centres, m (feet must not cross). At the
+    reference stature (1.77 m); it scales with stature, like the hips."""
     foot_flat_tolerance: float = math.radians(3.0)
     """Largest stance-foot rotation allowed in single stance, rad. The paper asks for exactly 0,
     which a 5th-order Fourier series cannot hold over a whole interval without vanishing
