@@ -19,8 +19,15 @@ def _row_scale(s: float) -> np.ndarray:
     """How each node row of the subject's NLP relates to the reference's: lengths by s,
     velocities by √s, angular velocities by 1/√s, forces per body weight unchanged."""
     scale = np.ones(nlp.N_G)
-    by = {"loop_position": s, "loop_velocity": math.sqrt(s), "loop_omega": 1 / math.sqrt(s),
-          "other_points_y": s, "ankle_separation": s, "root_support": s, "other_support": s}
+    by = {
+        "loop_position": s,
+        "loop_velocity": math.sqrt(s),
+        "loop_omega": 1 / math.sqrt(s),
+        "other_points_y": s,
+        "ankle_separation": s,
+        "root_support": s,
+        "other_support": s,
+    }
     for name, k in by.items():
         scale[nlp.G_ROWS[name]] = k
     scale[nlp.G_ROWS["hs_wrench"].start + 3 : nlp.G_ROWS["hs_wrench"].stop] = s  # moments
@@ -107,8 +114,9 @@ def test_the_reference_subject_is_solved_as_given():
     assert ref is base and s == 1.0
     heavier, s = sim.reference_problem(base.model_copy(update={"mass": 90.0}))
     assert s == 1.0 and heavier == base  # only the mass differed
-    calibrated = PredictionSettings(height=1.6, rollover_s=[0.0, 0.1],
-                                    rollover_ankle=[(0.0, 0.08, 0.0), (0.1, 0.07, 0.0)])
+    calibrated = PredictionSettings(
+        height=1.6, rollover_s=[0.0, 0.1], rollover_ankle=[(0.0, 0.08, 0.0), (0.1, 0.07, 0.0)]
+    )
     ref, s = sim.reference_problem(calibrated)
     assert s == 1.0 and ref.height == 1.6 and ref.mass == sim.REFERENCE_MASS_KG
     x = np.zeros(layout.N_X)

@@ -13,7 +13,7 @@ import time
 import numpy as np
 from scipy.optimize import minimize
 
-from walk3d.problem import layout, nlp
+from walk3d.problem import layout, nlp, similarity
 from walk3d.problem.schedule import loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.ipopt import SolveOutcome, build_solver, initial_guess
@@ -101,6 +101,7 @@ def slsqp_solve(
     """Two-stage SLSQP (finite differences) from the same start as the default solver, restarted
     after early exits (:data:`RESTART_STATUS`) until ``time_limit_s``."""
     t0 = time.perf_counter()
+    settings, scale = similarity.reference_problem(settings)  # as the default solver does
     sv = build_solver(settings.model_copy(update={"absolute": "smooth"}))
     z0 = initial_guess(sv, seed)
     x = np.concatenate([z0[: layout.N_X], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]])
@@ -141,7 +142,7 @@ def slsqp_solve(
         if status != "Solve_Succeeded":
             break
     return SolveOutcome(
-        x=x[: layout.N_X].copy(),
+        x=similarity.subject_x(x[: layout.N_X], scale),
         z=x,
         converged=status == "Solve_Succeeded",
         status=str(status),

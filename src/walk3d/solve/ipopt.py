@@ -52,6 +52,8 @@ class SolveOutcome:
     attempts: int = 1
     """Standing starts tried (1 + restarts used; ``settings.restarts``)."""
     max_constraint_violation: float = float("nan")
+    """Largest violation of the final stage's rows and bounds, in the solved NLP's units (those
+    of the reference subject: lengths differ from the subject's by the factor h / 1.77 m)."""
     compiled_derivatives: list[str] = field(default_factory=list)
     """NLPs whose node derivatives ran as compiled C (``walk3d compile``), not in CasADi's VM."""
 
