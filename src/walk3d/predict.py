@@ -9,12 +9,14 @@ from walk3d import __version__
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
 from walk3d.results.prediction import Prediction, save_prediction
+from walk3d.solve import SOLVE_REVISION
 
 
 def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str) -> dict:
     """The JSON summary of a prediction (SI units, criteria exact, smoothed for reference)."""
     return {
         "walk3d_version": __version__,
+        "solve_revision": SOLVE_REVISION,
         "inputs": settings.model_dump() | {"seed": seed, "solver": solver},
         "seed": seed,
         "converged": bool(outcome.converged),

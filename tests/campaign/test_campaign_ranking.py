@@ -10,6 +10,7 @@ from walk3d.campaign import rank, store
 from walk3d.campaign.ranking import COLUMNS, order_records, update_best, write_ranking
 from walk3d.campaign.task import error_record
 from walk3d.problem.settings import PredictionSettings
+from walk3d.solve import SOLVE_REVISION
 
 TINY = PredictionSettings(nodes=6, max_iter=3)
 
@@ -94,8 +95,18 @@ def test_resume_may_add_starts_but_not_change_settings(tmp_path):
         store.open_campaign(out, TINY.model_copy(update={"speed": 1.2}), 5, 8, "ipopt")
     with pytest.raises(store.CampaignMismatch, match="base_seed"):
         store.open_campaign(out, TINY, 0, 8, "ipopt")
-    # a campaign made before a setting existed is refused, naming that setting
+    # a campaign solved by another solver revision is refused: its starts ran otherwise
     stored = store.read_campaign(out)
+    assert stored["solve_revision"] == SOLVE_REVISION
+    store.write_json(out / store.CAMPAIGN_FILE, stored | {"solve_revision": 10})
+    with pytest.raises(store.CampaignMismatch, match=f"revision 10, now {SOLVE_REVISION}\\)"):
+        store.open_campaign(out, TINY, 5, 8, "ipopt")
+    del stored["solve_revision"]  # made before revisions were recorded
+    store.write_json(out / store.CAMPAIGN_FILE, stored)
+    with pytest.raises(store.CampaignMismatch, match="revision before 11"):
+        store.open_campaign(out, TINY, 5, 8, "ipopt")
+    stored["solve_revision"] = SOLVE_REVISION
+    # a campaign made before a setting existed is refused, naming that setting
     del stored["settings"]["restarts"]
     store.write_json(out / store.CAMPAIGN_FILE, stored)
     with pytest.raises(store.CampaignMismatch, match="earlier walk3d.* restarts; use a new --out$"):

@@ -30,6 +30,7 @@ from typing import Any
 from walk3d import __version__
 from walk3d.io._atomic import atomic_write_text
 from walk3d.problem.settings import PredictionSettings
+from walk3d.solve import SOLVE_REVISION
 
 __all__ = [
     "CAMPAIGN_FILE",
@@ -134,11 +135,14 @@ def open_campaign(
     Raises:
         CampaignMismatch: the folder holds a campaign with other settings, criterion, solver
             or base seed, or one made by an earlier walk3d without a setting added since
-            (e.g. ``restarts``), or is a non-empty folder that is not a campaign.
+            (e.g. ``restarts``) or under another solver revision
+            (:data:`walk3d.solve.SOLVE_REVISION`), or is a non-empty folder that is not a
+            campaign.
     """
     out = Path(out_dir)
     requested = {
         "walk3d_version": __version__,
+        "solve_revision": SOLVE_REVISION,
         "settings": clean_json(settings.model_dump()),
         "criterion": settings.criterion,
         "solver": solver,
@@ -155,6 +159,12 @@ def open_campaign(
         if added:  # settings introduced since: its starts may have run otherwise
             raise CampaignMismatch(f"{out} holds a campaign made by an earlier walk3d, without "
                                    f"the setting {', '.join(added)}; use a new --out")  # fmt: skip
+        if stored.get("solve_revision") != SOLVE_REVISION:  # its starts ran otherwise
+            raise CampaignMismatch(
+                f"{out} holds a campaign solved by another walk3d (solver revision "
+                f"{stored.get('solve_revision', 'before 11')}, now {SOLVE_REVISION}), whose starts "
+                "would not be comparable; use a new --out"
+            )
         diff = _mismatch(stored, requested)
         if diff is not None:
             raise CampaignMismatch(

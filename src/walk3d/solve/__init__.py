@@ -8,6 +8,13 @@ from walk3d.problem.settings import PredictionSettings
 
 SOLVERS = ("ipopt", "sqp")
 
+SOLVE_REVISION = 11
+"""Increased whenever a change makes a start of the same settings and seed run other stages or
+solve another problem (recorded in each summary.json). Revision 11 solves every mass and
+stature as the reference subject's problem and restarts after a failed balance stage. A
+campaign folder records it and refuses to resume under another revision, so that its starts
+stay comparable."""
+
 
 def run_solver(
     settings: PredictionSettings,
