@@ -6,10 +6,22 @@ from collections.abc import Callable
 from pathlib import Path
 
 from walk3d import __version__
+from walk3d.problem import similarity
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
 from walk3d.results.prediction import Prediction, save_prediction
 from walk3d.solve import SOLVE_REVISION
+
+
+def _solved_as(settings: PredictionSettings) -> dict:
+    """The reference subject whose problem was solved (:mod:`walk3d.problem.similarity`)."""
+    return {
+        "mass_kg": similarity.REFERENCE_MASS_KG,
+        "height_m": similarity.REFERENCE_HEIGHT_M,
+        "length_scale": similarity.length_scale(settings),
+        "note": "stages[].objective and max_constraint_violation are in this problem's units "
+        "(lengths divided by length_scale); everything else is the subject's",
+    }
 
 
 def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str) -> dict:
@@ -17,6 +29,7 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
     return {
         "walk3d_version": __version__,
         "solve_revision": SOLVE_REVISION,
+        "solved_as": _solved_as(settings),
         "inputs": settings.model_dump() | {"seed": seed, "solver": solver},
         "seed": seed,
         "converged": bool(outcome.converged),

@@ -152,3 +152,27 @@ def test_a_failed_balance_stage_after_the_posture_stage_restarts_at_once():
     ]  # fmt: skip
     assert outcome.stages[2]["status"] == "Maximum_Iterations_Exceeded"
     assert outcome.attempts == 2 and outcome.status == outcome.stages[-1]["status"]
+
+
+def test_a_failed_balance_stage_on_the_retry_path_restarts_at_once(monkeypatch):
+    """Scripted stage outcomes: the direct balance stage converges, its full stage does not,
+    and the retry through the posture stage ends in a balance stage that did not converge; the
+    attempt ends there, and the restart's stages run."""
+    ok, failed = "Solve_Succeeded", "Maximum_Iterations_Exceeded"
+    script = iter([("balance_direct", ok), ("full", failed), ("posture", ok), ("balance", failed),
+                   ("balance_direct", ok), ("full", ok)])  # fmt: skip
+
+    def run(fn, solver, z0, name, listener=None, stop=None):
+        expected, status = next(script)
+        assert name == expected
+        info = {"stage": name, "status": status, "iterations": 1, "wall_time_s": 0.0,
+                "objective": 0.0, "max_constraint_violation": 0.0}  # fmt: skip
+        return z0, info
+
+    monkeypatch.setattr(ipopt, "_run", run)
+    outcome = ipopt.solve(SETTINGS.model_copy(update={"restarts": 1}), seed=0)
+    assert [(st["stage"], st["attempt"]) for st in outcome.stages] == [
+        ("balance_direct", 0), ("full", 0), ("posture", 0), ("balance", 0),
+        ("balance_direct", 1), ("full", 1),
+    ]  # fmt: skip
+    assert outcome.converged and outcome.attempts == 2

@@ -74,6 +74,8 @@ def bounds(
     ubx = np.full(layout.N_X, np.inf)
     fixed = layout.fixed_zero_mask()
     lbx[fixed], ubx[fixed] = 0.0, 0.0
+    # half step width, m: loose bounds; solve() uses the reference stature's problem, so for a
+    # subject they are 0.02-0.25 m times h / 1.77 m (walk3d.problem.similarity)
     lbx[layout.I_HALF_STEP], ubx[layout.I_HALF_STEP] = 0.02, 0.25
     ylo, yhi = _coord_bounds(body, settings, sch)
     t_lo, t_hi = (-np.inf, np.inf) if slack else (0.0, 0.0)

@@ -20,9 +20,12 @@ by strength (C_tor) or by a fixed power (C_en). So:
 of compiled derivatives serve every mass and stature of a sex and criterion. The settings'
 lengths are those of the reference stature and scale with the subject's (the free-moment radius,
 the minimum ankle separation, and the solver's bounds on the half step width and loop checks),
-like the foot and hips they describe; for the reference subject nothing changes. With a
-calibrated roll-over (``rollover_s``, measured on one foot) only the mass is replaced.
-The results (:func:`walk3d.results.evaluate.evaluate_cycle`) are always evaluated with the
+like the foot and hips they describe; for the reference subject nothing changes. A calibrated
+roll-over (``rollover_ankle``, m) is scaled too. The solver's own figures (stage objectives,
+``max_constraint_violation``) are the reference problem's; ``summary.json`` gives the scale
+under ``solved_as``. The smoothed criterion of the SLSQP baseline (``absolute="smooth"``) is
+not exactly similar (its smoothing widths are absolute), a difference of the order of the
+smoothing. The results (:func:`walk3d.results.evaluate.evaluate_cycle`) are always evaluated with the
 subject's own body and descriptors.
 """
 
@@ -42,10 +45,7 @@ REFERENCE_HEIGHT_M = 1.77
 
 
 def length_scale(settings: PredictionSettings) -> float:
-    """``s = h / h_ref`` by which the subject's lengths exceed the reference subject's (1 with a
-    calibrated roll-over, whose stature is not replaced)."""
-    if settings.rollover_s is not None:
-        return 1.0
+    """``s = h / h_ref`` by which the subject's lengths exceed the reference subject's."""
     return settings.height / REFERENCE_HEIGHT_M
 
 
@@ -53,13 +53,13 @@ def reference_problem(settings: PredictionSettings) -> tuple[PredictionSettings,
     """The reference subject's settings whose solution is this subject's, and ``s``.
 
     Mass and stature become the reference's, the descriptors ``V, T, Td`` are divided by
-    ``√s``; everything else is kept. The reference subject's own settings come back unchanged
+    ``√s`` and a calibrated roll-over's ankle path by ``s``; everything else is kept. The reference subject's own settings come back unchanged
     (the same object), so its solves are exactly those of the settings given.
     """
     s = length_scale(settings)
     if settings.mass == REFERENCE_MASS_KG and s == 1.0:
         return settings, 1.0
-    update: dict[str, float] = {"mass": REFERENCE_MASS_KG}
+    update: dict[str, object] = {"mass": REFERENCE_MASS_KG}
     if s != 1.0:
         root = math.sqrt(s)
         update |= {
@@ -68,6 +68,10 @@ def reference_problem(settings: PredictionSettings) -> tuple[PredictionSettings,
             "period": settings.period / root,
             "double_support": settings.double_support / root,
         }
+        if settings.rollover_ankle is not None:  # the spline is linear in its samples
+            update["rollover_ankle"] = tuple(
+                tuple(c / s for c in p) for p in settings.rollover_ankle
+            )
     return settings.model_copy(update=update), s
 
 

@@ -70,7 +70,7 @@ def initial_guess(solver: Solver, seed: int, attempt: int = 0) -> np.ndarray:
     x0 = np.zeros(layout.N_X)
     x0[: layout.I_HALF_STEP] = rng.uniform(-s.perturbation, s.perturbation, layout.I_HALF_STEP)
     x0[layout.fixed_zero_mask()] = 0.0
-    x0[layout.I_HALF_STEP] = 0.08
+    x0[layout.I_HALF_STEP] = 0.08  # m, at the reference stature (solve() solves that problem)
     return _z_from_x(solver, x0, np.array([0.0, 1.0, 0.0, 0.0, 0.0, 0.0]))
 
 
@@ -149,9 +149,9 @@ def solve(
     """Predict one gait cycle from the standing start of ``seed``.
 
     ``converged`` is True only when the final (full) stage reports success. A start whose
-    final stage did not converge is tried again from a new standing start (the seed's next
-    noise stream, :func:`initial_guess`), at most ``settings.restarts`` times; each stage's
-    record carries its ``attempt``. Any mass and stature is solved as the reference subject's
+    final stage, or whose balance stage (see ``attempt``), did not converge is tried again from
+    a new standing start (the seed's next noise stream, :func:`initial_guess`), at most
+    ``settings.restarts`` times; each stage's record carries its ``attempt``. Any mass and stature is solved as the reference subject's
     problem (:mod:`walk3d.problem.similarity`) and ``x`` mapped back. ``on_stage``
     receives progress messages: each stage as it starts, then, every IPOPT iteration, the
     stage's message with its iteration, objective and largest constraint violation.
