@@ -66,15 +66,15 @@ class PredictionSettings(BaseModel):
     fallback (it converged in 102–285 iterations when it converged; 600 did not lead more
     starts to walking)."""
     posture_balance_max_iter: int = 250
-    """Iteration limit of the balance stage that follows the posture stage (with
-    ``posture_stage = "off"``: of the only balance stage), at most ``max_iter``. Where it stops
-    without converging, the attempt ends and the start restarts (``restarts``); only on the last
-    attempt does the full stage start from where it stopped. With the knee's walking range (``leg_walking_ranges``) this
-    stage converged in 42–88 iterations on 16 of the 18 starts of seeds 0–19 that took the
-    fallback; the other two ran to the general limit of 800 (100–140 s each) without converging.
-    Stopped at 250 (session 8, before restarts), seed 1 then reached the walking optimum in 669
-    iterations in all instead of a crouched one in 1494; seed 17 failed either way
-    (docs/solver.md, "Session 8")."""
+    """Iteration limit of the balance stage that follows the posture stage (with ``posture_stage =
+    "off"``: of the only balance stage), at most ``max_iter``. Where it stops without converging,
+    the attempt ends and the start restarts (``restarts``); only on the last attempt does the full
+    stage start from where it stopped. With the knee's walking range (``leg_walking_ranges``) this
+    stage converged in 42–88 iterations on 16 of the 18 starts of seeds 0–19 that took the fallback;
+    the other two ran to the general limit of 800 (100–140 s each) without converging. Stopped at
+    250 (session 8, before restarts), seed 1 then reached the walking optimum in 669 iterations in
+    all instead of a crouched one in 1494; seed 17 failed either way (docs/solver.md, "Session
+    8")."""
     balance_progress_check: tuple[int, float] | None = (80, 0.1)
     """``(iteration, violation)``: the balance stage started straight from standing is stopped
     (and the posture fallback taken) if at that iteration its largest constraint violation is
@@ -112,8 +112,9 @@ class PredictionSettings(BaseModel):
     its roll-over path by up to 10 mm in that gap (20 nodes, seed 0)."""
     loop_check_tolerance: float = 1e-3
     """Half-width of the loop-check rows (m for position at the reference stature, scaling with
-    stature like ``free_moment_radius``; quaternion vector units for orientation; 1e-3 ≈ 0.1°). Inequalities, not equalities: stated exactly, these rows
-    nearly repeat the node rows and made IPOPT stall."""
+    stature like ``free_moment_radius``; quaternion vector units for orientation; 1e-3 ≈ 0.1°).
+    Inequalities, not equalities: stated exactly, these rows nearly repeat the node rows and made
+    IPOPT stall."""
     rollover_s: tuple[float, ...] | None = None
     """Calibrated roll-over knots (``sin(θ/2)`` of the foot rotation; ``walk3d calibrate``).
     None: the default arc roll-over scaled by foot length."""
@@ -130,14 +131,14 @@ class PredictionSettings(BaseModel):
     0, the default prediction, then reaches the 2.80 optimum instead of 1.78, so the default stays
     0.05 (docs/solver.md, "Session 9")."""
     restarts: int = 1
-    """How often a start whose final stage did not converge is tried again, each time from a
-    new standing start (the seed's next independent noise stream, so still reproducible from
-    the seed; :func:`walk3d.solve.ipopt.initial_guess`). 0: one try, as in the paper. While a
-    restart is left, a balance stage that did not converge also ends its attempt, without the
-    full stage that seldom converged after it; so a start's result can depend on this setting
-    (the same settings always give the same result). Measured (session 10): seeds 11 and 17 of the defaults, the benchmark's two failures,
-    converged on their second attempt (C_tor 6.87 and the walking 1.777; 180 and 190 s with
-    one thread), and so did seed 0 at V = 1.4 m/s, T = 1.2 s, Td = 0.18 s (4.52, 145 s); seed 0
+    """How often a start whose final stage did not converge is tried again, each time from a new
+    standing start (the seed's next independent noise stream, so still reproducible from the seed;
+    :func:`walk3d.solve.ipopt.initial_guess`). 0: one try, as in the paper. While a restart is left,
+    a balance stage that did not converge also ends its attempt, without the full stage that seldom
+    converged after it; so a start's result can depend on this setting (the same settings always
+    give the same result). Measured (session 10): seeds 11 and 17 of the defaults, the benchmark's
+    two failures, converged on their second attempt (C_tor 6.87 and the walking 1.777; 180 and 190 s
+    with one thread), and so did seed 0 at V = 1.4 m/s, T = 1.2 s, Td = 0.18 s (4.52, 145 s); seed 0
     at V = 0.8 m/s, T = 1.25 s, Td = 0.25 s failed both attempts (226 s)."""
     linear_solver: Literal["mumps", "ma27", "ma57", "ma77", "ma86", "ma97"] = "mumps"
     """IPOPT's sparse symmetric indefinite solver for its Newton systems. MUMPS ships inside

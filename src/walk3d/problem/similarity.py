@@ -25,8 +25,8 @@ roll-over (``rollover_ankle``, m) is scaled too. The solver's own figures (stage
 ``max_constraint_violation``) are the reference problem's; ``summary.json`` gives the scale
 under ``solved_as``. The smoothed criterion of the SLSQP baseline (``absolute="smooth"``) is
 not exactly similar (its smoothing widths are absolute), a difference of the order of the
-smoothing. The results (:func:`walk3d.results.evaluate.evaluate_cycle`) are always evaluated with the
-subject's own body and descriptors.
+smoothing. The results (:func:`walk3d.results.evaluate.evaluate_cycle`) are always evaluated
+with the subject's own body and descriptors.
 """
 
 from __future__ import annotations
@@ -53,8 +53,9 @@ def reference_problem(settings: PredictionSettings) -> tuple[PredictionSettings,
     """The reference subject's settings whose solution is this subject's, and ``s``.
 
     Mass and stature become the reference's, the descriptors ``V, T, Td`` are divided by
-    ``√s`` and a calibrated roll-over's ankle path by ``s``; everything else is kept. The reference subject's own settings come back unchanged
-    (the same object), so its solves are exactly those of the settings given.
+    ``√s`` and a calibrated roll-over's ankle path by ``s``; everything else is kept. The
+    reference subject's own settings come back unchanged (the same object), so its solves are
+    exactly those of the settings given.
     """
     s = length_scale(settings)
     if settings.mass == REFERENCE_MASS_KG and s == 1.0:

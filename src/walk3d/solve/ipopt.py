@@ -148,14 +148,14 @@ def solve(
 ) -> SolveOutcome:
     """Predict one gait cycle from the standing start of ``seed``.
 
-    ``converged`` is True only when the final (full) stage reports success. A start whose
-    final stage, or whose balance stage (see ``attempt``), did not converge is tried again from
-    a new standing start (the seed's next noise stream, :func:`initial_guess`), at most
-    ``settings.restarts`` times; each stage's record carries its ``attempt``. Any mass and stature is solved as the reference subject's
-    problem (:mod:`walk3d.problem.similarity`) and ``x`` mapped back. ``on_stage``
-    receives progress messages: each stage as it starts, then, every IPOPT iteration, the
-    stage's message with its iteration, objective and largest constraint violation.
-    """
+    ``converged`` is True only when the final (full) stage reports success. A start whose final
+    stage, or whose balance stage (see ``attempt``), did not converge is tried again from a new
+    standing start (the seed's next noise stream, :func:`initial_guess`), at most
+    ``settings.restarts`` times; each stage's record carries its ``attempt``. Any mass and stature
+    is solved as the reference subject's problem (:mod:`walk3d.problem.similarity`) and ``x`` mapped
+    back. ``on_stage`` receives progress messages: each stage as it starts, then, every IPOPT
+    iteration, the stage's message with its iteration, objective and largest constraint
+    violation."""
     note = on_stage or (lambda _msg: None)
 
     def progress(label: str) -> Listener | None:
