@@ -47,6 +47,7 @@ def test_bad_input_exits_2_with_one_line(tmp_path, args, word):
 @pytest.mark.parametrize(
     ("args", "env", "word"),
     [(["--mass", "3"], {}, "mass"), (["--speed", "0"], {}, "speed"),
+     (["--calibration", "/nonexistent/calib.json"], {}, "calib.json"),
      ([], {"CC": "/nonexistent/cc"}, "no C compiler")],
 )  # fmt: skip
 def test_compile_bad_input_or_no_compiler_exits_2(tmp_path, args, env, word):

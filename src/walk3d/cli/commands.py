@@ -215,15 +215,16 @@ def compile_model(
     sex: Sex = "male",
     criterion: Criterion = "tor",
     nodes: Nodes = 20,
+    calibration: CalibrationFile = None,
 ) -> None:
     """Compile the solver's derivatives to C for these options and keep them in the model
-    cache. Later predictions and campaigns with the same sex and criterion use them, at any
-    body mass, stature, speed, period and double support (about twice as fast a solve). Takes
-    minutes once; needs a C compiler ($CC or cc). Exit code 2 without a compiler or for bad
-    input."""
+    cache. Later predictions and campaigns with the same sex, criterion and calibration use
+    them, at any body mass, stature, speed, period and double support (about twice as fast a
+    solve). Takes minutes once; needs a C compiler ($CC or cc). Exit code 2 without a compiler
+    or for bad input."""
     settings = settings_from_options(
         criterion, "ipopt", 0, speed=speed, period=period, double_support=double_support,
-        mass=mass, height=height, sex=sex, nodes=nodes,
+        mass=mass, height=height, sex=sex, nodes=nodes, **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.cli.compile import compile_with_progress
 
@@ -288,6 +289,7 @@ def campaign(
     restarts: Restarts = 1,
     linear_solver: LinearSolver = "mumps",
     hsl_library: HslLibrary = None,
+    calibration: CalibrationFile = None,
 ) -> None:
     """Run N random starts in parallel (Dask) and rank them. Each finished start is stored
     at once in DIR/starts/seed_<seed>/ (a walk3d predict folder plus record.json); rerunning
@@ -301,7 +303,7 @@ def campaign(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes, max_iter=max_iter,
         perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
-        hsl_library=hsl_library,
+        hsl_library=hsl_library, **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign
     from walk3d.campaign.ranking import top_table
