@@ -25,6 +25,7 @@ from walk3d.problem import derivatives, nlp, similarity
 from walk3d.problem.bounds import Bounds, bounded_rows, bounds
 from walk3d.problem.schedule import Schedule, schedule
 from walk3d.problem.settings import PredictionSettings, body_for
+from walk3d.solve.options import ipopt_options, sqp_options, stage_max_iter
 from walk3d.solve.progress import IterationReporter
 
 STAGE_PROBLEMS = {"posture": "posture", "balance": "balance", "balance_direct": "balance",
@@ -130,11 +131,11 @@ class Solver:
                 prob = derivatives.select_rows(self._problem(kind), self.stage_rows[kind])
                 t0 = time.perf_counter()
                 if self.method == "ipopt":
-                    opts = _ipopt_options(self.settings)
-                    opts["ipopt.max_iter"] = _stage_max_iter(self.settings, name)
+                    opts = ipopt_options(self.settings)
+                    opts["ipopt.max_iter"] = stage_max_iter(self.settings, name)
                     plugin = "ipopt"
                 else:
-                    opts, plugin = _sqp_options(self.settings), "sqpmethod"
+                    opts, plugin = sqp_options(self.settings), "sqpmethod"
                 opts["iteration_callback"] = self.reporter(name)
                 fn = ca.nlpsol(f"walk3d_{name}", plugin, *_with_derivatives(prob, opts, plugin))
                 self._built[name] = fn
@@ -179,43 +180,6 @@ class Solver:
                 prob = self._problem("full")
                 self._built["constraints"] = ca.Function("walk3d_g", [prob["x"]], [prob["g"]])
             return self._built["constraints"]  # type: ignore[return-value]
-
-
-def _stage_max_iter(settings: PredictionSettings, name: str) -> int:
-    """IPOPT's iteration limit for stage ``name``: ``max_iter``, or the stage's own limit (at
-    most ``max_iter``, except ``balance_max_iter``, which a stage test relies on exceeding it)."""
-    own = {"balance_direct": settings.balance_max_iter,
-           "balance": min(settings.max_iter, settings.posture_balance_max_iter),
-           "full": min(settings.max_iter, settings.full_max_iter)}  # fmt: skip
-    return own.get(name, settings.max_iter)
-
-
-def _ipopt_options(settings: PredictionSettings) -> dict:
-    opts = {
-        "print_time": False,
-        "ipopt.print_level": 0,
-        "ipopt.sb": "yes",
-        "ipopt.max_iter": settings.max_iter,
-        "ipopt.tol": settings.tol,
-        "ipopt.mu_strategy": "adaptive",
-    }
-    if settings.linear_solver != "mumps":
-        opts["ipopt.linear_solver"] = settings.linear_solver
-        if settings.hsl_library:
-            opts["ipopt.hsllib"] = settings.hsl_library
-        return opts
-    return opts | {
-        "ipopt.linear_solver": "mumps",
-        # METIS ordering: on this KKT structure (20 nodes, balance stage, 20 iterations) the
-        # linear algebra took 1.6 s with METIS, 5.0 s with QAMD, 8.3 s with AMD and 25-30 s
-        # with AMF, PORD or MUMPS's automatic choice
-        "ipopt.mumps_pivot_order": 5,
-        # MUMPS's workspace: IPOPT's default reserves 1000 % more than MUMPS estimates, and
-        # clearing that memory at every factorization took 1.7 s of system time in seed 0's
-        # full stage (10.6 s -> 8.8 s of linear algebra with 100 %, same iterates); if the
-        # estimate is ever short, IPOPT enlarges it and refactors
-        "ipopt.mumps_mem_percent": 100,
-    }
 
 
 RUNTIME_FIELDS = frozenset({
@@ -324,42 +288,6 @@ def _with_derivatives(prob: dict, opts: dict, plugin: str = "ipopt") -> tuple[di
     prob = dict(prob)
     derivs = prob.pop("derivatives", {})
     return prob, opts | derivs if plugin == "ipopt" else opts
-
-
-def _sqp_options(settings: PredictionSettings) -> dict:
-    """CasADi ``sqpmethod`` (the paper used MATLAB's SQP) with the qrqp QP solver."""
-    return {
-        "qpsol": "qrqp",
-        "qpsol_options": {"print_iter": False, "print_header": False, "error_on_fail": False},
-        "max_iter": settings.max_iter,
-        "tol_pr": settings.tol,
-        "tol_du": settings.tol,
-        "print_header": False,
-        "print_iteration": False,
-        "print_status": False,
-        "print_time": False,
-        "error_on_fail": False,
-    }
-
-
-def linear_solver_error(settings: PredictionSettings) -> str | None:
-    """None if IPOPT can use ``settings.linear_solver``; otherwise why not, in one line.
-
-    An HSL solver is loaded from a shared library at run time, and IPOPT reports a missing or
-    unusable one only as ``Invalid_Option`` when a solve starts; a two-variable problem finds
-    that out before a long solve or campaign does."""
-    if settings.linear_solver == "mumps":
-        return None
-    x = ca.SX.sym("x", 2)
-    probe = ca.nlpsol("walk3d_probe", "ipopt", {"x": x, "f": ca.sumsqr(x - 1), "g": x[0] + x[1]},
-                      _ipopt_options(settings))  # fmt: skip
-    probe(x0=[0.0, 0.0], lbg=0.0, ubg=1.0)
-    if probe.stats()["success"]:
-        return None
-    where = settings.hsl_library or "IPOPT's default library name on the library path"
-    return (f"IPOPT could not use the HSL solver {settings.linear_solver} from {where} "
-            f"({probe.stats()['return_status']}); give the HSL library's path "
-            "(libhsl.so or libcoinhsl.so) or use the default solver, mumps")  # fmt: skip
 
 
 def build_solver(
