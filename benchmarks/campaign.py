@@ -64,7 +64,10 @@ def main(argv: list[str] | None = None) -> int:
               f"{runs[-1]['starts_per_minute'] / runs[0]['starts_per_minute']:.2f}x")  # fmt: skip
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    report_json = {"settings": settings.model_dump(), "cpu_count": os.cpu_count(),
+    from walk3d.solve import SOLVE_REVISION
+
+    report_json = {"solve_revision": SOLVE_REVISION, "settings": settings.model_dump(),
+                   "cpu_count": os.cpu_count(),
                    "compiled_derivatives": compiled, "runs": runs}  # fmt: skip
     out.write_text(json.dumps(report_json, indent=2) + "\n")
     print(f"written {out}")

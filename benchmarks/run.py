@@ -54,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     from walk3d.problem.settings import PredictionSettings, available_cores, body_for
     from walk3d.results.evaluate import evaluate_cycle
     from walk3d.results.gait_checks import walking_checks
-    from walk3d.solve import ipopt
+    from walk3d.solve import SOLVE_REVISION, ipopt
 
     threads = args.threads or min(available_cores(), 64)
     settings = PredictionSettings(criterion=args.criterion, nodes=args.nodes, threads=threads)
@@ -91,6 +91,7 @@ def main(argv: list[str] | None = None) -> int:
     def summarize() -> None:
         conv = [r["wall_time_s"] for r in runs if r["converged"]]
         report.update({
+            "solve_revision": SOLVE_REVISION,
             "settings": settings.model_dump(),
             "build_time_s": build,
             "first_stage_ready_s": first_stage,
