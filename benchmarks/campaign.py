@@ -32,6 +32,7 @@ def main(argv: list[str] | None = None) -> int:
 
     from walk3d.campaign import run_campaign
     from walk3d.problem.settings import PredictionSettings
+    from walk3d.solve import SOLVE_REVISION
     from walk3d.solve.solver import compiled_status
 
     extra = {} if args.max_iter is None else {"max_iter": args.max_iter}
@@ -64,8 +65,6 @@ def main(argv: list[str] | None = None) -> int:
               f"{runs[-1]['starts_per_minute'] / runs[0]['starts_per_minute']:.2f}x")  # fmt: skip
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    from walk3d.solve import SOLVE_REVISION
-
     report_json = {"solve_revision": SOLVE_REVISION, "settings": settings.model_dump(),
                    "cpu_count": os.cpu_count(),
                    "compiled_derivatives": compiled, "runs": runs}  # fmt: skip

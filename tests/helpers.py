@@ -1,4 +1,4 @@
-"""Finite-difference helpers shared by the physics tests."""
+"""Helpers shared by the tests: finite differences (physics tests) and a sample calibration."""
 
 import numpy as np
 
@@ -21,3 +21,15 @@ def assert_rel(actual, expected, rel=1e-6):
     scale = max(np.max(np.abs(expected)), 1e-12)
     err = np.max(np.abs(actual - expected))
     assert err <= rel * scale, f"max error {err:.3e} > {rel:.0e} x scale {scale:.3e}"
+
+
+def sample_calibration():
+    """A plausible roll-over calibration (7 knots) with transfer ratios, subject and quality."""
+    from walk3d.contact.transition import TransitionRatios
+    from walk3d.validation.calibration import Calibration
+
+    s = np.sin(np.radians(np.linspace(-60, 30, 7)) / 2)
+    ankle = tuple((float(-0.3 * v), float(0.07 + 0.2 * v * v), float(0.01 * v)) for v in s)
+    return Calibration(tuple(float(v) for v in s), ankle, (float(s[1]), float(s[-2])),
+                       TransitionRatios(0.25, -0.02, 0.14, -0.01),
+                       subject={"mass_kg": 62.0}, quality={"rms_m": 0.007})  # fmt: skip

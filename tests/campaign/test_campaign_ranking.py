@@ -161,17 +161,11 @@ def test_cli_refuses_bad_campaign_options_before_creating_the_folder(tmp_path, a
 def test_cli_campaign_takes_a_calibration_like_predict(tmp_path):
     """--calibration reaches the campaign's settings: a missing file is refused before the
     folder exists, and a calibration differs from a stored campaign without one."""
-    import numpy as np
+    from helpers import sample_calibration
 
-    from walk3d.contact.transition import TransitionRatios
     from walk3d.io import write_calibration
-    from walk3d.validation.calibration import Calibration
 
-    s = np.sin(np.radians(np.linspace(-60, 30, 7)) / 2)
-    ankle = tuple((float(-0.3 * v), float(0.07 + 0.2 * v * v), float(0.01 * v)) for v in s)
-    cal = Calibration(tuple(float(v) for v in s), ankle, (float(s[1]), float(s[-2])),
-                      TransitionRatios(0.25, -0.02, 0.14, -0.01))  # fmt: skip
-    path = write_calibration(tmp_path / "cal.json", cal.to_dict())
+    path = write_calibration(tmp_path / "cal.json", sample_calibration().to_dict())
     base = [sys.executable, "-m", "walk3d.cli", "campaign", "--starts", "2", "--nodes", "6",
             "--max-iter", "3"]  # fmt: skip
     missing = tmp_path / "missing"

@@ -4,24 +4,16 @@ import json
 
 import numpy as np
 import pytest
+from helpers import sample_calibration
 
 from walk3d.body.model import build_body
-from walk3d.contact.transition import TransitionRatios
 from walk3d.io import DataFileError, read_calibration, write_calibration
 from walk3d.validation.calibrate import calibrate_from_trial, load_calibration
-from walk3d.validation.calibration import Calibration, apply_calibration
-
-
-def _calibration() -> Calibration:
-    s = np.sin(np.radians(np.linspace(-60, 30, 7)) / 2)
-    ankle = tuple((float(-0.3 * v), float(0.07 + 0.2 * v * v), float(0.01 * v)) for v in s)
-    return Calibration(tuple(float(v) for v in s), ankle, (float(s[1]), float(s[-2])),
-                       TransitionRatios(0.25, -0.02, 0.14, -0.01),
-                       subject={"mass_kg": 62.0}, quality={"rms_m": 0.007})  # fmt: skip
+from walk3d.validation.calibration import apply_calibration
 
 
 def test_calibration_file_round_trip(tmp_path):
-    cal = _calibration()
+    cal = sample_calibration()
     path = write_calibration(tmp_path / "sub" / "cal.json", cal.to_dict())
     back = load_calibration(path)
     assert back == cal
@@ -34,7 +26,7 @@ def test_calibration_file_round_trip(tmp_path):
 
 def test_apply_calibration_changes_only_the_rollover():
     body = build_body(62.0, 1.70, "female")
-    cal = _calibration()
+    cal = sample_calibration()
     new = apply_calibration(body, cal)
     assert new.rollover == cal.rollover() and body.rollover != new.rollover
     assert new.segments == body.segments and new.joints == body.joints
@@ -50,7 +42,7 @@ def test_apply_calibration_changes_only_the_rollover():
     ],
 )
 def test_malformed_calibration_names_file_and_line(tmp_path, edit, message, line):
-    data = _calibration().to_dict()
+    data = sample_calibration().to_dict()
     edit(data)
     path = tmp_path / "bad.json"
     path.write_text(json.dumps(data, indent=2))
