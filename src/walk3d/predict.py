@@ -6,6 +6,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from walk3d import __version__
+from walk3d.io import blas
 from walk3d.problem import similarity
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
@@ -39,6 +40,7 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "wall_time_s": round(outcome.wall_time_s, 3),
         "stages": outcome.stages,
         "compiled_derivatives": list(outcome.compiled_derivatives),
+        "blas": blas.status().describe(),
         "objective": ev.criteria,
         "objective_smoothed": ev.criteria_smoothed,
         "max_constraint_violation": outcome.max_constraint_violation,

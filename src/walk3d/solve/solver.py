@@ -20,7 +20,7 @@ import casadi as ca
 import numpy as np
 
 from walk3d.body.model import BodyModel
-from walk3d.io import compiled, model_cache
+from walk3d.io import blas, compiled, model_cache
 from walk3d.problem import derivatives, nlp, similarity
 from walk3d.problem.bounds import Bounds, bounded_rows, bounds
 from walk3d.problem.schedule import Schedule, schedule
@@ -297,7 +297,9 @@ def build_solver(
 
     ``cache``: whether to read and write the model's SX functions in the on-disk cache
     (:mod:`walk3d.io.model_cache`); None (default) follows ``$WALK3D_CACHE`` (on unless ``0``).
+    First puts an optimized BLAS under IPOPT when it can (:func:`walk3d.io.blas.activate`).
     """
+    blas.activate()
     return _build(settings, method, model_cache.cache_enabled(cache))
 
 

@@ -1,0 +1,209 @@
+"""An optimized BLAS under CasADi's bundled IPOPT and MUMPS.
+
+Why. CasADi's wheel ships its own OpenBLAS (``libcasadi-tp-openblas.so.0``, 0.3.24 in CasADi
+3.7-3.8) built for the generic ``CORE2`` target: SSE2 kernels only, none for AVX, AVX2 or
+AVX-512. MUMPS's dense frontal work (``dgemm``, ``dtrsm``, ...) and IPOPT's vector operations
+run on it. ``scipy-openblas32``, the OpenBLAS build that NumPy's and SciPy's wheels use, picks
+its kernels for the CPU at run time (``SkylakeX`` here). On the default prediction it cut
+IPOPT's linear algebra by 26-28 % per iteration (docs/solver.md, "Session 12").
+
+How. CasADi loads its plugins with ``RTLD_DEEPBIND``, so ``LD_PRELOAD`` does not reach them.
+But the dynamic linker satisfies a library's ``DT_NEEDED`` entry with an already loaded library
+of that soname. So walk3d assembles a small library with the soname
+``libcasadi-tp-openblas.so.0`` whose functions jump to ``scipy-openblas32``'s functions of the
+same names (prefixed ``scipy_`` there; a tail jump passes every argument through, so no
+signature is restated), and loads it before CasADi loads IPOPT (:func:`activate`, called by
+:func:`walk3d.solve.solver.build_solver`). It exports exactly the functions that CasADi's
+libraries take from their bundled OpenBLAS, found with ``nm``.
+
+Falls back to CasADi's own OpenBLAS, with the reason in :func:`status` (and in
+``summary.json``), when: ``$WALK3D_BLAS`` is ``casadi``; the system is not Linux; CasADi has no
+bundled OpenBLAS; ``scipy-openblas32`` is missing or lacks a function; there is no C compiler
+or ``nm``; or IPOPT was already loaded in this process. Results are the same up to rounding;
+like the compiled derivatives, a different rounding can move IPOPT's path.
+
+The library is built once per CasADi and ``scipy-openblas32`` version into the model cache
+folder (:func:`walk3d.io.model_cache.cache_dir`), atomically: about 4 s, most of it ``nm``
+reading CasADi's libraries; later processes load it in milliseconds.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import logging
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import threading
+from dataclasses import dataclass
+from pathlib import Path
+
+import casadi as ca
+
+from walk3d.io.compiled import compiler
+from walk3d.io.model_cache import cache_dir
+
+__all__ = ["ENV", "SONAME", "BlasStatus", "activate", "bundled_library", "status"]
+
+ENV = "WALK3D_BLAS"
+"""``auto`` (default): use ``scipy-openblas32`` when possible; ``casadi``: keep CasADi's."""
+SONAME = "libcasadi-tp-openblas.so.0"
+_REVISION = 1  # raise when the generated library changes
+_PREFIX = "scipy_"
+log = logging.getLogger(__name__)
+_lock = threading.Lock()
+_status: BlasStatus | None = None
+
+
+@dataclass(frozen=True)
+class BlasStatus:
+    """Which BLAS CasADi's IPOPT uses in this process: ``active`` is True for
+    ``scipy-openblas32``; ``name`` says which, and ``reason`` why not when not."""
+
+    active: bool
+    name: str
+    reason: str = ""
+
+    def describe(self) -> str:
+        """One line for summaries: the BLAS, and why CasADi's own is kept if it is."""
+        return self.name if self.active else f"{self.name} ({self.reason})"
+
+
+def bundled_library() -> Path | None:
+    """CasADi's bundled OpenBLAS, or None if this CasADi has none."""
+    path = Path(ca.__file__).parent / SONAME
+    return path if path.exists() else None
+
+
+def _mapped(path: Path) -> bool:
+    """Whether ``path`` is loaded in this process (Linux: ``/proc/self/maps``)."""
+    try:
+        maps = Path("/proc/self/maps").read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return False
+    return str(path.resolve()) in maps
+
+
+def _functions(nm: str, lib: Path, undefined: bool) -> set[str]:
+    """Dynamic function symbols ``lib`` defines (text) or takes from elsewhere."""
+    flag = "--undefined-only" if undefined else "--defined-only"
+    run = subprocess.run([nm, "-D", flag, str(lib)], capture_output=True, text=True, check=False)
+    out = set()
+    for line in run.stdout.splitlines():
+        parts = line.split()
+        if undefined and len(parts) >= 2 and parts[-2] == "U":
+            out.add(parts[-1].split("@")[0])
+        elif not undefined and len(parts) == 3 and parts[1] == "T":
+            out.add(parts[2].split("@")[0])
+    return out
+
+
+def _needed(nm: str, bundled: Path) -> set[str]:
+    """The functions CasADi's libraries take from their bundled OpenBLAS."""
+    provided = _functions(nm, bundled, undefined=False)
+    wanted: set[str] = set()
+    for lib in bundled.parent.glob("*.so*"):
+        if lib.is_file() and not lib.is_symlink() and lib.resolve() != bundled.resolve():
+            wanted |= _functions(nm, lib, undefined=True)
+    return wanted & provided
+
+
+def _assembly(names: list[str]) -> str:
+    lines = [".text"]
+    for name in names:
+        lines += [f".globl {name}", f".type {name},@function", f"{name}: jmp {_PREFIX}{name}@PLT"]
+    lines.append('.section .note.GNU-stack,"",@progbits')
+    return "\n".join(lines) + "\n"
+
+
+def _build(path: Path, bundled: Path, lib_dir: Path, lib_name: str) -> str:
+    """Build the forwarding library at ``path``; '' on success, else why not."""
+    cc, nm = compiler(), shutil.which("nm")
+    if cc is None or nm is None:
+        return "no C compiler or nm to build the BLAS bridge"
+    target = next(iter(sorted(lib_dir.glob(f"lib{lib_name}.so*"))), None)
+    if target is None:
+        return f"no lib{lib_name}.so in {lib_dir}"
+    needed = sorted(_needed(nm, bundled))
+    have = {s[len(_PREFIX) :] for s in _functions(nm, target, False) if s.startswith(_PREFIX)}
+    missing = [s for s in needed if s not in have]
+    if not needed or missing:
+        return f"scipy-openblas32 lacks {', '.join(missing[:3])}" if missing else "nm found nothing"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=path.parent, prefix=".build-") as tmp:
+        src, lib = Path(tmp) / "bridge.s", Path(tmp) / "bridge.so"
+        src.write_text(_assembly(needed), encoding="ascii")
+        cmd = [*cc, "-shared", f"-Wl,-soname,{SONAME}", str(src), "-o", str(lib),
+               f"-L{lib_dir}", f"-l{lib_name}", f"-Wl,-rpath,{lib_dir}"]  # fmt: skip
+        run = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        if run.returncode != 0:
+            tail = (run.stderr.strip().splitlines() or ["no output"])[-1]
+            return f"building the BLAS bridge failed: {tail}"
+        os.replace(lib, path)
+    return ""
+
+
+def _bundled_name() -> str:
+    return "CasADi's bundled OpenBLAS"
+
+
+def _try() -> BlasStatus:
+    fallback = _bundled_name()
+    if os.environ.get(ENV, "auto").strip().lower() == "casadi":
+        return BlasStatus(False, fallback, f"${ENV}=casadi")
+    if not sys.platform.startswith("linux"):
+        return BlasStatus(False, fallback, "the BLAS bridge is built on Linux only")
+    bundled = bundled_library()
+    if bundled is None:
+        return BlasStatus(False, "CasADi's BLAS", f"CasADi has no {SONAME}")
+    if _mapped(bundled):
+        return BlasStatus(False, fallback, "IPOPT was loaded before walk3d could switch")
+    try:
+        import scipy_openblas32 as sob
+    except ImportError:
+        return BlasStatus(False, fallback, "scipy-openblas32 is not installed")
+    lib_dir, lib_name = Path(sob.get_lib_dir()), sob.get_library()
+    key = hashlib.sha256(
+        f"{_REVISION} {ca.__version__} {bundled.resolve()} {sob.__version__} {lib_dir}".encode()
+    ).hexdigest()[:24]
+    path = cache_dir() / f"blas-{key}.so"
+    if not path.is_file():
+        why = _build(path, bundled, lib_dir, lib_name)
+        if why:
+            return BlasStatus(False, fallback, why)
+    try:
+        ctypes.CDLL(str(path), mode=ctypes.RTLD_GLOBAL)
+        blas = ctypes.CDLL(str(next(iter(sorted(lib_dir.glob(f"lib{lib_name}.so*"))))))
+    except OSError as exc:
+        return BlasStatus(False, fallback, f"the BLAS bridge did not load: {exc}")
+    threads = os.environ.get("OPENBLAS_NUM_THREADS", "1")
+    blas[f"{_PREFIX}openblas_set_num_threads"](int(threads) if threads.isdigit() else 1)
+    corename = blas[f"{_PREFIX}openblas_get_corename"]
+    corename.restype = ctypes.c_char_p
+    return BlasStatus(True, f"scipy-openblas32 {sob.__version__} ({corename().decode()})")
+
+
+def activate() -> BlasStatus:
+    """Put ``scipy-openblas32`` under CasADi's IPOPT in this process if possible (once; later
+    calls return the first outcome). Call it before any IPOPT solver is made."""
+    global _status
+    with _lock:
+        if _status is None:
+            _status = _try()
+            if not _status.active:
+                log.info("BLAS: %s", _status.describe())
+        return _status
+
+
+def status() -> BlasStatus:
+    """The BLAS CasADi's IPOPT uses or will use in this process (after :func:`activate`, its
+    outcome; before, whether CasADi's own has already been loaded)."""
+    if _status is not None:
+        return _status
+    bundled = bundled_library()
+    if bundled is not None and _mapped(bundled):
+        return BlasStatus(False, _bundled_name(), "IPOPT was loaded before walk3d could switch")
+    return BlasStatus(False, _bundled_name(), "not activated")
