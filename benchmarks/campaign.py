@@ -46,6 +46,9 @@ def main(argv: list[str] | None = None) -> int:
             report = run_campaign(settings, args.starts, 0, Path(tmp) / "c", workers=workers,
                                   progress=False)  # fmt: skip
             wall = time.perf_counter() - t0
+            # the BLAS the workers' IPOPT used (walk3d.io.blas), from the first start's summary
+            first = Path(tmp) / "c" / "starts" / "seed_0" / "summary.json"
+            blas = json.loads(first.read_text())["blas"] if first.is_file() else None
         solve_s = sum(r["wall_time_s"] or 0.0 for r in report.rows)
         run = {
             "workers": workers,
@@ -53,6 +56,7 @@ def main(argv: list[str] | None = None) -> int:
             "wall_time_s": round(wall, 2),
             "starts_per_minute": round(60 * args.starts / wall, 2),
             "solve_time_s": round(solve_s, 2),
+            "blas": blas,
             "converged": report.converged,
             "errors": report.errors,
         }

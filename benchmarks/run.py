@@ -51,6 +51,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "solve.json"))
     args = ap.parse_args(argv)
 
+    from walk3d.io import blas
     from walk3d.problem.settings import PredictionSettings, available_cores, body_for
     from walk3d.results.evaluate import evaluate_cycle
     from walk3d.results.gait_checks import walking_checks
@@ -79,6 +80,7 @@ def main(argv: list[str] | None = None) -> int:
     build = time.perf_counter() - t0
     source = "SX functions from the model cache" if from_cache else "cold"
     source += f"; compiled derivatives: {', '.join(compiled_kinds) or 'none'}"
+    source += f"; BLAS: {blas.status().describe()}"
     print(
         f"model build: {build:.1f} s ({source}; first stage ready after {first_stage:.1f} s; "
         "not counted per solve)"
@@ -97,6 +99,7 @@ def main(argv: list[str] | None = None) -> int:
             "first_stage_ready_s": first_stage,
             "build_from_cache": from_cache,
             "compiled_derivatives": compiled_kinds,
+            "blas": blas.status().describe(),
             "compile": compile_info,
             "starts": len(runs),
             "converged": len(conv),

@@ -1,6 +1,8 @@
 """Compiled C functions in the cache folder: compiled once, loaded with equal values, a
 damaged library counted as missing, a missing compiler reported as such."""
 
+from pathlib import Path
+
 import casadi as ca
 import numpy as np
 import pytest
@@ -65,3 +67,17 @@ def test_failing_compiler_is_a_clear_error(cache, monkeypatch):
     with pytest.raises(compiled.CompileError, match="failed on t_"):
         compiled.compile_functions("k5", _functions(), jobs=1)
     assert not list(cache.glob("lib-k5-*"))
+
+
+def test_native_flags_key_the_library_to_the_cpu(monkeypatch):
+    # a library tuned with -march=native must not be loaded on another CPU of a shared cache
+    monkeypatch.setattr(compiled, "cpu_fingerprint", lambda: "cpu A")
+    portable, native = ("-O1",), ("-O1", "-march=native")
+    a_portable, a_native = compiled.library_key("k", portable), compiled.library_key("k", native)
+    monkeypatch.setattr(compiled, "cpu_fingerprint", lambda: "cpu B")
+    assert compiled.library_key("k", portable) == a_portable
+    assert compiled.library_key("k", native) != a_native
+    assert a_native != a_portable
+    monkeypatch.undo()
+    if Path("/proc/cpuinfo").is_file():  # Linux: the instruction-set flags are in it
+        assert "flags" in compiled.cpu_fingerprint()

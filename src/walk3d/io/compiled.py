@@ -14,7 +14,9 @@ minutes (:func:`compile_functions`), and only :func:`walk3d.solve.solver.compile
 (``walk3d compile``, campaigns) asks for it.
 
 The compiler is ``$CC``, else ``cc`` or ``gcc`` on the ``PATH``; its flags are ``$WALK3D_CFLAGS``,
-else ``-O1``. Without a compiler the solver keeps CasADi's virtual machine (same results).
+else ``-O1``. ``WALK3D_CFLAGS="-O1 -march=native"`` made the derivative evaluations 12 % faster
+on this machine (docs/solver.md, "Session 12"); such libraries are keyed to the CPU too.
+Without a compiler the solver keeps CasADi's virtual machine (same results).
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import os
+import platform
 import shlex
 import shutil
 import subprocess
@@ -74,9 +77,26 @@ def flags() -> tuple[str, ...]:
     return tuple(shlex.split(env)) if env is not None else DEFAULT_FLAGS
 
 
+def cpu_fingerprint() -> str:
+    """The CPU's model and instruction-set flags (Linux ``/proc/cpuinfo``; else the machine
+    type), for libraries compiled for this CPU only."""
+    try:
+        info = Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return platform.machine()
+    keep = ("model name", "flags")
+    lines = [ln for ln in info.splitlines() if ln.split(":")[0].strip() in keep]
+    return "\n".join(dict.fromkeys(lines))  # first of each, in order
+
+
 def library_key(key: str, cflags: tuple[str, ...]) -> str:
-    """Entry key from ``key`` (what the functions are made of) and the compiler flags."""
-    return hashlib.sha256(f"{key} {' '.join(cflags)}".encode()).hexdigest()[:32]
+    """Entry key from ``key`` (what the functions are made of) and the compiler flags. Flags
+    that tune for the compiling machine (``-march=native``, ``-mtune=native``) add the CPU's
+    fingerprint: such a library may crash another CPU with an illegal instruction, and a cache
+    folder can be shared by a cluster's machines."""
+    native = any("native" in f for f in cflags)
+    cpu = f" cpu:{cpu_fingerprint()}" if native else ""
+    return hashlib.sha256(f"{key} {' '.join(cflags)}{cpu}".encode()).hexdigest()[:32]
 
 
 def _library(key: str, name: str) -> Path:
