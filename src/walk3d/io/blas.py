@@ -175,7 +175,9 @@ def _try() -> BlasStatus:
         if why:
             return BlasStatus(False, fallback, why)
     try:
-        ctypes.CDLL(str(path), mode=ctypes.RTLD_GLOBAL)
+        # RTLD_LOCAL: the soname is what the dynamic linker matches; nothing else in the
+        # process sees the bridge's BLAS names
+        ctypes.CDLL(str(path), mode=ctypes.RTLD_LOCAL)
         blas = ctypes.CDLL(str(next(iter(sorted(lib_dir.glob(f"lib{lib_name}.so*"))))))
     except OSError as exc:
         return BlasStatus(False, fallback, f"the BLAS bridge did not load: {exc}")
@@ -192,7 +194,10 @@ def activate() -> BlasStatus:
     global _status
     with _lock:
         if _status is None:
-            _status = _try()
+            try:
+                _status = _try()
+            except Exception as exc:  # noqa: BLE001 - never fail a solve over its BLAS
+                _status = BlasStatus(False, _bundled_name(), f"the BLAS bridge failed: {exc}")
             if not _status.active:
                 log.info("BLAS: %s", _status.describe())
         return _status
