@@ -13,7 +13,7 @@ def _cache(tmp_path, *args):
 
 def test_cache_lists_and_clears_only_finished_entries(tmp_path):
     entries = [tmp_path / "model-abc.casadi", tmp_path / "lib-k1-walk3d_full_hess_0.so",
-               tmp_path / "lib-k1-walk3d_full_jac_0.so"]  # fmt: skip
+               tmp_path / "lib-k1-walk3d_full_jac_0.so", tmp_path / "blas-k2.so"]  # fmt: skip
     for i, path in enumerate(entries):
         path.write_bytes(b"x" * 1000 * (i + 1))
     # a compile and a write in progress, and a file that is not walk3d's
@@ -25,11 +25,11 @@ def test_cache_lists_and_clears_only_finished_entries(tmp_path):
     r = _cache(tmp_path)
     assert r.returncode == 0, r.stderr
     assert str(tmp_path) in r.stdout
-    assert "1 model entries, 2 compiled libraries, 0.0 MB" in r.stdout
+    assert "1 model entries, 2 compiled libraries, 1 BLAS bridges, 0.0 MB" in r.stdout
     assert all(p.exists() for p in entries)  # listing deletes nothing
     r = _cache(tmp_path, "--clear")
     assert r.returncode == 0, r.stderr
-    assert "deleted 3 files" in r.stdout
+    assert "deleted 4 files" in r.stdout
     assert not any(p.exists() for p in entries)
     assert all(p.exists() for p in others) and (tmp_path / ".build-xyz").is_dir()
     r = _cache(tmp_path)

@@ -234,7 +234,10 @@ def compile_model(
 @app.command(name="cache")
 def cache_info(
     clear: Annotated[
-        bool, typer.Option("--clear", help="Delete every cached model and compiled library.")
+        bool,
+        typer.Option(
+            "--clear", help="Delete every cached model, compiled library and BLAS bridge."
+        ),
     ] = False,
 ) -> None:
     """Show the model cache folder ($WALK3D_CACHE_DIR, else the user cache folder) and what it
@@ -246,7 +249,7 @@ def cache_info(
     state = "" if model_cache.cache_enabled() else " (off: WALK3D_CACHE)"
     console.print(f"walk3d cache: {model_cache.cache_dir()}{state}", markup=False, highlight=False)
     console.print(f"{use['models']} model entries, {use['libraries']} compiled libraries, "
-                  f"{use['bytes'] / 1e6:.1f} MB")  # fmt: skip
+                  f"{use['bridges']} BLAS bridges, {use['bytes'] / 1e6:.1f} MB")  # fmt: skip
     if clear:
         files, freed = model_cache.clear_entries()
         console.print(f"deleted {files} files, {freed / 1e6:.1f} MB")

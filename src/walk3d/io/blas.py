@@ -119,12 +119,17 @@ def _assembly(names: list[str]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _openblas_file(lib_dir: Path, lib_name: str) -> Path | None:
+    """``scipy-openblas32``'s shared library, or None."""
+    return next(iter(sorted(lib_dir.glob(f"lib{lib_name}.so*"))), None)
+
+
 def _build(path: Path, bundled: Path, lib_dir: Path, lib_name: str) -> str:
     """Build the forwarding library at ``path``; '' on success, else why not."""
     cc, nm = compiler(), shutil.which("nm")
     if cc is None or nm is None:
         return "no C compiler or nm to build the BLAS bridge"
-    target = next(iter(sorted(lib_dir.glob(f"lib{lib_name}.so*"))), None)
+    target = _openblas_file(lib_dir, lib_name)
     if target is None:
         return f"no lib{lib_name}.so in {lib_dir}"
     needed = sorted(_needed(nm, bundled))
@@ -178,7 +183,7 @@ def _try() -> BlasStatus:
         # RTLD_LOCAL: the soname is what the dynamic linker matches; nothing else in the
         # process sees the bridge's BLAS names
         ctypes.CDLL(str(path), mode=ctypes.RTLD_LOCAL)
-        blas = ctypes.CDLL(str(next(iter(sorted(lib_dir.glob(f"lib{lib_name}.so*"))))))
+        blas = ctypes.CDLL(str(_openblas_file(lib_dir, lib_name)))
     except OSError as exc:
         return BlasStatus(False, fallback, f"the BLAS bridge did not load: {exc}")
     threads = os.environ.get("OPENBLAS_NUM_THREADS", "1")

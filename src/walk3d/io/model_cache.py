@@ -175,9 +175,10 @@ def write_functions(key: str, functions: dict[str, ca.Function]) -> Path | None:
         return None
 
 
-ENTRY_PATTERNS = {"models": "model-*.casadi", "libraries": "lib-*.so"}
-"""The cache folder's finished entries by kind: model functions (this module) and compiled
-derivatives (:mod:`walk3d.io.compiled`). Temporaries of writes in progress are not entries."""
+ENTRY_PATTERNS = {"models": "model-*.casadi", "libraries": "lib-*.so", "bridges": "blas-*.so"}
+"""The cache folder's finished entries by kind: model functions (this module), compiled
+derivatives (:mod:`walk3d.io.compiled`) and the BLAS bridge (:mod:`walk3d.io.blas`).
+Temporaries of writes in progress are not entries."""
 
 
 def cache_entries() -> dict[str, list[Path]]:
