@@ -53,6 +53,8 @@ ENV = "WALK3D_BLAS"
 SONAME = "libcasadi-tp-openblas.so.0"
 _REVISION = 1  # raise when the generated library changes
 _PREFIX = "scipy_"
+_BUNDLED = "CasADi's bundled OpenBLAS"
+_TOO_LATE = "IPOPT was loaded before walk3d could switch"
 log = logging.getLogger(__name__)
 _lock = threading.Lock()
 _status: BlasStatus | None = None
@@ -151,25 +153,20 @@ def _build(path: Path, bundled: Path, lib_dir: Path, lib_name: str) -> str:
     return ""
 
 
-def _bundled_name() -> str:
-    return "CasADi's bundled OpenBLAS"
-
-
 def _try() -> BlasStatus:
-    fallback = _bundled_name()
     if os.environ.get(ENV, "auto").strip().lower() == "casadi":
-        return BlasStatus(False, fallback, f"${ENV}=casadi")
+        return BlasStatus(False, _BUNDLED, f"${ENV}=casadi")
     if not sys.platform.startswith("linux"):
-        return BlasStatus(False, fallback, "the BLAS bridge is built on Linux only")
+        return BlasStatus(False, _BUNDLED, "the BLAS bridge is built on Linux only")
     bundled = bundled_library()
     if bundled is None:
         return BlasStatus(False, "CasADi's BLAS", f"CasADi has no {SONAME}")
     if _mapped(bundled):
-        return BlasStatus(False, fallback, "IPOPT was loaded before walk3d could switch")
+        return BlasStatus(False, _BUNDLED, _TOO_LATE)
     try:
         import scipy_openblas32 as sob
     except ImportError:
-        return BlasStatus(False, fallback, "scipy-openblas32 is not installed")
+        return BlasStatus(False, _BUNDLED, "scipy-openblas32 is not installed")
     lib_dir, lib_name = Path(sob.get_lib_dir()), sob.get_library()
     key = hashlib.sha256(
         f"{_REVISION} {ca.__version__} {bundled.resolve()} {sob.__version__} {lib_dir}".encode()
@@ -178,14 +175,14 @@ def _try() -> BlasStatus:
     if not path.is_file():
         why = _build(path, bundled, lib_dir, lib_name)
         if why:
-            return BlasStatus(False, fallback, why)
+            return BlasStatus(False, _BUNDLED, why)
     try:
         # RTLD_LOCAL: the soname is what the dynamic linker matches; nothing else in the
         # process sees the bridge's BLAS names
         ctypes.CDLL(str(path), mode=ctypes.RTLD_LOCAL)
         blas = ctypes.CDLL(str(_openblas_file(lib_dir, lib_name)))
     except OSError as exc:
-        return BlasStatus(False, fallback, f"the BLAS bridge did not load: {exc}")
+        return BlasStatus(False, _BUNDLED, f"the BLAS bridge did not load: {exc}")
     threads = os.environ.get("OPENBLAS_NUM_THREADS", "1")
     blas[f"{_PREFIX}openblas_set_num_threads"](int(threads) if threads.isdigit() else 1)
     corename = blas[f"{_PREFIX}openblas_get_corename"]
@@ -202,7 +199,7 @@ def activate() -> BlasStatus:
             try:
                 _status = _try()
             except Exception as exc:  # noqa: BLE001 - never fail a solve over its BLAS
-                _status = BlasStatus(False, _bundled_name(), f"the BLAS bridge failed: {exc}")
+                _status = BlasStatus(False, _BUNDLED, f"the BLAS bridge failed: {exc}")
             if not _status.active:
                 log.info("BLAS: %s", _status.describe())
         return _status
@@ -215,5 +212,5 @@ def status() -> BlasStatus:
         return _status
     bundled = bundled_library()
     if bundled is not None and _mapped(bundled):
-        return BlasStatus(False, _bundled_name(), "IPOPT was loaded before walk3d could switch")
-    return BlasStatus(False, _bundled_name(), "not activated")
+        return BlasStatus(False, _BUNDLED, _TOO_LATE)
+    return BlasStatus(False, _BUNDLED, "not activated")
