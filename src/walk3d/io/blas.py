@@ -36,14 +36,13 @@ import os
 import shutil
 import subprocess
 import sys
-import tempfile
 import threading
 from dataclasses import dataclass
 from pathlib import Path
 
 import casadi as ca
 
-from walk3d.io.compiled import compiler
+from walk3d.io.compiled import CompileError, build_library, compiler
 from walk3d.io.model_cache import cache_dir
 
 __all__ = ["ENV", "SONAME", "BlasStatus", "activate", "bundled_library", "status"]
@@ -139,17 +138,11 @@ def _build(path: Path, bundled: Path, lib_dir: Path, lib_name: str) -> str:
     missing = [s for s in needed if s not in have]
     if not needed or missing:
         return f"scipy-openblas32 lacks {', '.join(missing[:3])}" if missing else "nm found nothing"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(dir=path.parent, prefix=".build-") as tmp:
-        src, lib = Path(tmp) / "bridge.s", Path(tmp) / "bridge.so"
-        src.write_text(_assembly(needed), encoding="ascii")
-        cmd = [*cc, "-shared", f"-Wl,-soname,{SONAME}", str(src), "-o", str(lib),
-               f"-L{lib_dir}", f"-l{lib_name}", f"-Wl,-rpath,{lib_dir}"]  # fmt: skip
-        run = subprocess.run(cmd, capture_output=True, text=True, check=False)
-        if run.returncode != 0:
-            tail = (run.stderr.strip().splitlines() or ["no output"])[-1]
-            return f"building the BLAS bridge failed: {tail}"
-        os.replace(lib, path)
+    try:
+        build_library(path, "blas_bridge.s", _assembly(needed), cc, [f"-Wl,-soname,{SONAME}"],
+                      [f"-L{lib_dir}", f"-l{lib_name}", f"-Wl,-rpath,{lib_dir}"])  # fmt: skip
+    except CompileError as exc:
+        return f"building the BLAS bridge failed: {exc}"
     return ""
 
 

@@ -37,8 +37,8 @@ import casadi as ca
 
 from walk3d.io.model_cache import cache_dir
 
-__all__ = ["CompileError", "compile_functions", "compiler", "flags", "load_functions",
-           "require_compiler"]  # fmt: skip
+__all__ = ["CompileError", "build_library", "compile_functions", "compiler", "flags",
+           "load_functions", "require_compiler"]  # fmt: skip
 
 ENV_CC = "CC"
 ENV_FLAGS = "WALK3D_CFLAGS"
@@ -118,20 +118,29 @@ def load_functions(key: str, names: list[str]) -> dict[str, ca.Function] | None:
     return out
 
 
-def _compile_one(fn: ca.Function, path: Path, cc: list[str], cflags: tuple[str, ...]) -> None:
+def build_library(
+    path: Path, name: str, source: str, cc: list[str], before: list[str], after: list[str]
+) -> None:
+    """Build the shared library ``path`` from ``source`` (the file name ``name`` tells the
+    compiler its language: ``.c``, ``.s``): ``cc *before -shared SOURCE -o LIB *after`` in a
+    temporary folder next to ``path``, then moved into place (atomic). Raises
+    :class:`CompileError` with the compiler's last line of output if it fails."""
     path.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=path.parent, prefix=".build-") as tmp:
-        gen = ca.CodeGenerator(f"{fn.name()}.c", {"with_header": False})
-        gen.add(fn)
-        c_file = Path(tmp) / f"{fn.name()}.c"
-        c_file.write_text(gen.dump(), encoding="utf-8")
-        lib = Path(tmp) / "lib.so"
-        cmd = [*cc, *cflags, "-fPIC", "-shared", str(c_file), "-o", str(lib), "-lm"]
+        src, lib = Path(tmp) / name, Path(tmp) / "lib.so"
+        src.write_text(source, encoding="utf-8")
+        cmd = [*cc, *before, "-shared", str(src), "-o", str(lib), *after]
         run = subprocess.run(cmd, capture_output=True, text=True, check=False)
         if run.returncode != 0:
             tail = run.stderr.strip().splitlines()[-1:] or ["no output"]
-            raise CompileError(f"{shlex.join(cmd[:1])} failed on {fn.name()}: {tail[0]}")
+            raise CompileError(f"{shlex.join(cmd[:1])} failed on {Path(name).stem}: {tail[0]}")
         os.replace(lib, path)
+
+
+def _compile_one(fn: ca.Function, path: Path, cc: list[str], cflags: tuple[str, ...]) -> None:
+    gen = ca.CodeGenerator(f"{fn.name()}.c", {"with_header": False})
+    gen.add(fn)
+    build_library(path, f"{fn.name()}.c", gen.dump(), cc, [*cflags, "-fPIC"], ["-lm"])
 
 
 def compile_functions(
