@@ -77,6 +77,15 @@ def test_axis_split_sums_to_total():
     assert s == {"x": 1.0, "y": 4.0, "z": 5.0, "total": 10.0}
 
 
+def test_balance_progress_checks_read_as_iteration_to_violation():
+    assert PredictionSettings().progress_checks() == {60: 3.0, 80: 0.1}
+    assert PredictionSettings(balance_progress_check=(80, 0.1)).progress_checks() == {80: 0.1}
+    assert PredictionSettings(balance_progress_check=None).progress_checks() == {}
+    # a copy skips validation; the single pair is still one check
+    copy = PredictionSettings().model_copy(update={"balance_progress_check": (5, 1.0)})
+    assert copy.progress_checks() == {5: 1.0}
+
+
 @pytest.mark.parametrize(
     "kwargs,words",
     [
@@ -90,6 +99,7 @@ def test_axis_split_sums_to_total():
         ({"height": 3.5}, "height"),
         ({"balance_progress_check": (0, 0.1)}, "balance progress check"),
         ({"balance_progress_check": (80, -1.0)}, "balance progress check"),
+        ({"balance_progress_check": ((60, 3.0), (0, 0.1))}, "balance progress check"),
         ({"posture_balance_max_iter": 0}, "iteration limits"),
         ({"full_max_iter": 0}, "iteration limits"),
     ],

@@ -75,6 +75,11 @@ def test_the_sqp_method_builds_its_stages_with_casadis_own_derivatives():
             {"balance_max_iter": 400, "balance_progress_check": (2, 1e-12)},
             ["balance_direct", "posture", "balance", "full"],
         ),
+        # of two checks, the one whose violation is exceeded stops it (at iteration 3, not 2)
+        (
+            {"balance_max_iter": 400, "balance_progress_check": ((2, 1e30), (3, 1e-12))},
+            ["balance_direct", "posture", "balance", "full"],
+        ),
         ({"posture_stage": "first"}, ["posture", "balance", "full"]),
         # the balance stage after the posture stage stops at its own limit (below max_iter)
         ({"posture_stage": "first", "posture_balance_max_iter": 2}, ["posture", "balance", "full"]),
@@ -92,8 +97,9 @@ def test_stage_sequence_of_the_posture_fallback(update, expected):
     if expected[:2] == ["balance_direct", "full"]:  # the retry follows a converged first stage
         assert outcome.stages[0]["status"] in ipopt.IPOPT_SUCCESS
     if update.get("balance_progress_check"):  # stopped right at the check's iteration
+        stop_at = PredictionSettings(**update).balance_progress_check[-1][0]
         assert outcome.stages[0]["status"] == "User_Requested_Stop"
-        assert outcome.stages[0]["iterations"] == 2
+        assert outcome.stages[0]["iterations"] == stop_at
     if update.get("full_max_iter"):
         assert outcome.stages[-1]["iterations"] == 2
         assert outcome.stages[-1]["status"] == "Maximum_Iterations_Exceeded"

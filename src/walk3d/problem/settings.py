@@ -65,24 +65,27 @@ class PredictionSettings(BaseModel):
     """Iteration limit of the balance stage started straight from standing before the posture
     fallback (it converged in 102–285 iterations when it converged; 600 did not lead more
     starts to walking)."""
-    posture_balance_max_iter: int = 250
+    posture_balance_max_iter: int = 150
     """Iteration limit of the balance stage that follows the posture stage (with ``posture_stage =
     "off"``: of the only balance stage), at most ``max_iter``. Where it stops without converging,
     the attempt ends and the start restarts (``restarts``); only on the last attempt does the full
-    stage start from where it stopped. With the knee's walking range (``leg_walking_ranges``) this
-    stage converged in 42–88 iterations on 16 of the 18 starts of seeds 0–19 that took the fallback;
-    the other two ran to the general limit of 800 (100–140 s each) without converging. Stopped at
-    250 (session 8, before restarts), seed 1 then reached the walking optimum in 669 iterations in
-    all instead of a crouched one in 1494; seed 17 failed either way (docs/solver.md, "Session
-    8")."""
-    balance_progress_check: tuple[int, float] | None = (80, 0.1)
-    """``(iteration, violation)``: the balance stage started straight from standing is stopped
-    (and the posture fallback taken) if at that iteration its largest constraint violation is
-    still above that value. None: only ``balance_max_iter`` stops it. Why: in the 20-start
-    benchmark 16 of 20 starts ran this stage to its 250-iteration limit (about 20 s each)
-    before the fallback; at iteration 80 those had violations of 0.7-14, while the starts
-    whose stage converged by 110 iterations (seeds 0, 10, 15) were at 8e-5-0.03
-    (docs/solver.md, "Session 6")."""
+    stage start from where it stopped. Why 150: over seeds 0-39 (session 13) this stage converged
+    37 times, in 39-121 iterations, and the 8 stages that did not converge by 121 did not converge
+    by 250 either (violation still 0.02-0.34 at iteration 100, or oscillating); 250 cost those
+    starts 100 more iterations (about 12 s) each before the restart. In session 8, with the knee's
+    walking range, it converged in 42-88 iterations on 16 of 18 starts (docs/solver.md)."""
+    balance_progress_check: tuple[tuple[int, float], ...] | None = ((60, 3.0), (80, 0.1))
+    """``((iteration, violation), ...)``: the balance stage started straight from standing is
+    stopped (and the posture fallback taken) if at one of these iterations its largest constraint
+    violation is still above the paired value. None: only ``balance_max_iter`` stops it. A single
+    pair is accepted too. Why: this stage converges on few starts (3 of 48 runs over seeds 0-39),
+    and the others spent 80 iterations (about 7 s) here before the fallback, which starts again
+    from the same standing start, so stopping them earlier changes no path. At iteration 80 the
+    stages that converged were at 8e-5-0.03 and the others at 0.4-26 (session 6, and again in
+    session 13). At 60 the groups overlap below 2 (converging: up to 1.61 at V = 1.0 m/s, T =
+    1.18 s, Td = 0.20 s and 1.8 in session 7; not converging: from 0.5), so the check at 60 only
+    stops stages still above 3.0, which no converging stage has been: 40 of the 45 failing stages
+    of seeds 0-39, 20 iterations (about 2 s) each (docs/solver.md, "Session 13")."""
     balance_split: bool = False
     """The balance stage shares the total ground reaction between the feet in double support as
     the full stage does (transition function and heel-strike wrench, no joint moments needed)
@@ -166,6 +169,14 @@ class PredictionSettings(BaseModel):
             raise ValueError(f"{info.field_name} must be a finite number, got {v}")
         return v
 
+    @field_validator("balance_progress_check", mode="before")
+    @classmethod
+    def _check_pairs(cls, v):
+        """A single ``(iteration, violation)`` pair stands for a one-check tuple."""
+        if v is not None and len(v) == 2 and not isinstance(v[0], (tuple, list)):
+            return (tuple(v),)
+        return v
+
     @model_validator(mode="after")
     def _ranges(self) -> PredictionSettings:
         checks = [
@@ -214,8 +225,8 @@ class PredictionSettings(BaseModel):
             ),
             (
                 self.balance_progress_check is None
-                or (self.balance_progress_check[0] >= 1 and self.balance_progress_check[1] > 0),
-                "balance progress check must be (iteration >= 1, violation > 0) or None, "
+                or all(it >= 1 and viol > 0 for it, viol in self.balance_progress_check),
+                "balance progress check must be pairs (iteration >= 1, violation > 0) or None, "
                 f"got {self.balance_progress_check}",
             ),
         ]
@@ -230,6 +241,14 @@ class PredictionSettings(BaseModel):
             if not ok:
                 raise ValueError(msg)
         return self
+
+    def progress_checks(self) -> dict[int, float]:
+        """``balance_progress_check`` as {iteration: violation} (empty when None); a single pair
+        is read as one check, also where a copy bypassed validation (``model_copy``)."""
+        checks = self.balance_progress_check
+        if checks is None:
+            return {}
+        return dict(self._check_pairs(checks))
 
     @property
     def stride_length(self) -> float:

@@ -174,13 +174,13 @@ def solve(
     t0 = time.perf_counter()
     stages: list[dict] = []
 
-    check = ref.balance_progress_check
+    checks = ref.progress_checks()
 
     def stop_rule(name: str) -> StopRule | None:
         """The direct balance stage stops early if it is still far from feasible."""
-        if name != "balance_direct" or check is None:
+        if name != "balance_direct" or not checks:
             return None
-        return lambda it, _f, viol: it == check[0] and viol > check[1]
+        return lambda it, _f, viol: it in checks and viol > checks[it]
 
     def run(name: str, z0: np.ndarray, label: str) -> tuple[np.ndarray, dict]:
         z, info = _run(solver.stage(name), solver, z0, name, progress(label), stop_rule(name))
