@@ -105,6 +105,7 @@ def main(argv: list[str] | None = None) -> int:
             "converged": len(conv),
             "converged_share": len(conv) / max(len(runs), 1),
             "walking": sum(r["converged"] and r["looks_like_walking"] for r in runs),
+            "issue_checks_pass": sum(r["converged"] and r["issue_checks"] for r in runs),
             "median_time_per_converged_solve_s": statistics.median(conv) if conv else None,
             "runs": runs,
         })  # fmt: skip
@@ -144,6 +145,7 @@ def main(argv: list[str] | None = None) -> int:
                      "contact_residual_m": ev.contact_residual_m, **checks})  # fmt: skip
         print(f"seed {seed:3d}: {out.status:28s} {out.iterations:4d} it {out.wall_time_s:6.1f} s "
               f"C_{settings.criterion} {crit:8.3f} knee {checks['knee_swing_max_deg']:4.0f} "
+              f"hip {checks['hip_stance_max_deg']:4.0f} "
               f"walking {checks['looks_like_walking']}", flush=True)  # fmt: skip
         summarize()
         if args.baseline and len(runs) == 1:

@@ -10,6 +10,7 @@ from walk3d.io import blas
 from walk3d.problem import similarity
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
+from walk3d.results.gait_checks import walking_checks
 from walk3d.results.prediction import Prediction, save_prediction
 from walk3d.solve import SOLVE_REVISION
 
@@ -49,6 +50,9 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "stride_length_m": ev.stride_length_m,
         "stride_length_target_m": settings.stride_length,
         "step_width_m": ev.step_width_m,
+        "gait_checks": walking_checks(
+            ev.prediction_arrays, settings.period, settings.double_support, settings.mass
+        ),
     }
 
 

@@ -179,3 +179,23 @@ def test_cli_campaign_takes_a_calibration_like_predict(tmp_path):
                        capture_output=True, text=True, timeout=60)  # fmt: skip
     assert r.returncode == 2, r.stderr
     assert "rollover" in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
+
+
+def test_walking_verdict_flows_from_summary_to_ranking_and_table():
+    from rich.console import Console
+
+    from walk3d.campaign.ranking import top_table
+    from walk3d.campaign.task import record_from_summary
+
+    summary = {"seed": 3, "status": "Solve_Succeeded", "converged": True,
+               "objective": {"C_tor": {"total": 6.3, "x": 1.0, "y": 2.0, "z": 3.3}},
+               "gait_checks": {"looks_like_walking": False}}  # fmt: skip
+    rec = record_from_summary(summary, "tor", 1.0)
+    assert rec["looks_like_walking"] is False
+    rows = order_records([rec, record(4, True, 1.9) | {"looks_like_walking": True}])
+    assert [(r["seed"], r["looks_like_walking"]) for r in rows] == [(4, True), (3, False)]
+    console = Console(width=200, record=True)
+    console.print(top_table(rows, "tor"))
+    lines = [line for line in console.export_text().splitlines() if "Solve_Succeeded" in line]
+    assert "yes" in lines[0].split("1.9")[1] and " no " in lines[1]
+    assert "looks_like_walking" in COLUMNS

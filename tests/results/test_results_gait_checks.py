@@ -9,7 +9,7 @@ from walk3d.results.gait_checks import walking_checks
 T, TD, MASS = 1.08, 0.16, 70.0
 
 
-def _arrays(knee_peak_deg: float, humps: bool) -> dict:
+def _arrays(knee_peak_deg: float, humps: bool, hip_stance_peak_deg: float = 30.0) -> dict:
     ph = GaitPhases(T, TD)
     t = np.linspace(0.0, T, 101)
     stance = ph.in_stance(t, "r")
@@ -23,6 +23,7 @@ def _arrays(knee_peak_deg: float, humps: bool) -> dict:
     grf[:, 0, 1] = fy
     angles = np.zeros((101, 2))
     angles[:, 1] = knee
+    angles[:, 0] = np.where(stance, np.radians(hip_stance_peak_deg) * np.cos(np.pi * s), 0.0)
     return {"time": t, "dof_names": ["hip_flexion_r", "knee_flexion_r"], "joint_angle": angles,
             "grf_force": grf}  # fmt: skip
 
@@ -37,3 +38,13 @@ def test_flat_force_or_stiff_knee_fails():
     assert not walking_checks(_arrays(60.0, False), T, TD, MASS)["two_fy_humps"]
     stiff = walking_checks(_arrays(20.0, True), T, TD, MASS)
     assert stiff["two_fy_humps"] and not stiff["looks_like_walking"]
+
+
+def test_crouched_hip_fails_only_the_third_check():
+    """The crouched optima pass the issue's two checks with a hip flexed ~65° in stance."""
+    crouched = walking_checks(_arrays(42.0, True, hip_stance_peak_deg=65.0), T, TD, MASS)
+    assert crouched["issue_checks"] and not crouched["upright_stance"]
+    assert not crouched["looks_like_walking"]
+    assert abs(crouched["hip_stance_max_deg"] - 65.0) < 1.0
+    upright = walking_checks(_arrays(42.0, True, hip_stance_peak_deg=36.0), T, TD, MASS)
+    assert upright["upright_stance"] and upright["looks_like_walking"]

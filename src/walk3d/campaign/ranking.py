@@ -27,9 +27,11 @@ COLUMNS = (
     "rank", "seed", "converged", "status", "criterion_value",
     "C_tor_total", "C_tor_x", "C_tor_y", "C_tor_z",
     "C_en_total", "C_en_x", "C_en_y", "C_en_z",
-    "iterations", "wall_time_s",
+    "iterations", "wall_time_s", "looks_like_walking",
 )  # fmt: skip
-"""Columns of ``ranking.csv`` (``criterion_value`` is the campaign's chosen criterion)."""
+"""Columns of ``ranking.csv`` (``criterion_value`` is the campaign's chosen criterion;
+``looks_like_walking`` is :func:`walk3d.results.gait_checks.walking_checks`' verdict, empty
+for a start without a result)."""
 
 
 def _value(record: dict) -> float | None:
@@ -61,6 +63,7 @@ def order_records(records: list[dict]) -> list[dict]:
                 row[f"{crit}_{part}"] = split.get(part)
         row["iterations"] = r.get("iterations")
         row["wall_time_s"] = r.get("wall_time_s")
+        row["looks_like_walking"] = r.get("looks_like_walking")
         rows.append(row)
     return rows
 
@@ -118,11 +121,15 @@ def _fmt(value: Any) -> str:
     return "-" if value is None else f"{value:.4g}"
 
 
+def _yes_no(value: Any) -> str:
+    return "-" if value is None else ("yes" if value else "no")
+
+
 def top_table(rows: list[dict], criterion: str, n: int = 5, title: str | None = None) -> Table:
     """A Rich table of the ``n`` best starts: chosen criterion with its x/y/z split."""
     key = f"C_{criterion}"
     t = Table(title=title or f"best {min(n, len(rows))} of {len(rows)} starts by {key}")
-    for col in ("rank", "seed", "conv.", key, "x", "y", "z", "iter"):
+    for col in ("rank", "seed", "conv.", key, "x", "y", "z", "iter", "walking"):
         t.add_column(col)
     t.add_column("status", overflow="ellipsis", no_wrap=True, max_width=32)
     for row in rows[:n]:
@@ -130,6 +137,6 @@ def top_table(rows: list[dict], criterion: str, n: int = 5, title: str | None = 
             str(row["rank"]), str(row["seed"]), "yes" if row["converged"] else "no",
             _fmt(row["criterion_value"]), _fmt(row[f"{key}_x"]), _fmt(row[f"{key}_y"]),
             _fmt(row[f"{key}_z"]), "-" if row["iterations"] is None else str(row["iterations"]),
-            row["status"],
+            _yes_no(row.get("looks_like_walking")), row["status"],
         )  # fmt: skip
     return t

@@ -67,6 +67,7 @@ def record_from_summary(summary: dict, criterion: str, task_time_s: float) -> di
         "task_time_s": round(task_time_s, 3),
         "max_constraint_violation": summary.get("max_constraint_violation"),
         "solver": (summary.get("inputs") or {}).get("solver"),
+        "looks_like_walking": (summary.get("gait_checks") or {}).get("looks_like_walking"),
     }
     for key in CRITERIA:
         record[key] = _split(objective.get(key))

@@ -201,6 +201,13 @@ def predict(
     t.add_row("step width", f"{s['step_width_m']:.3f} m")
     t.add_row("contact residual", f"{1000 * s['double_support_contact_residual_m']:.3f} mm")
     t.add_row("max constraint violation", f"{s['max_constraint_violation']:.2e}")
+    g = s["gait_checks"]
+    t.add_row(
+        "looks like walking",
+        f"{'yes' if g['looks_like_walking'] else 'no'} (knee {g['knee_swing_max_deg']:.0f} deg in "
+        f"swing, hip {g['hip_stance_max_deg']:.0f} deg in stance, two Fy humps: "
+        f"{'yes' if g['two_fy_humps'] else 'no'})",
+    )
     console.print(t)
     if not s["converged"]:
         raise typer.Exit(1)
