@@ -7,13 +7,14 @@ The two checks of issue #3:
   separated by a mid-stance dip: each maximum at least 0.1 body weight above the dip.
 
 and a third one, because those two pass the crouched local optima that most random starts
-reach (C_tor 6.3–7.3 against 1.9–2.9 for walking; knee 39–44° in swing, force humps about
+reach (C_tor 6.3–7.4 against 1.9–3.7 for walking; knee 39–44° in swing, force humps about
 1.9 / 0.2 / 1.6 body weights):
 
 * the hip flexes at most 45° in stance. Real gait flexes it about 30–35° at heel strike; the
-  walking optima here reach 36°, the crouched ones 65–66° (with the pelvis tipped forward and
-  the hip extended to −37° at push-off). The knee's minimum in stance does not separate them
-  (−5° crouched, 3° walking): the crouch is at the hip.
+  walking optima here reach 29–36°, the crouched ones 57–67° (seeds 0–19 at the defaults,
+  docs/solver.md session 14; with the hip extended to −37° at push-off against −16°). The
+  knee's minimum in stance does not separate them (−5° crouched, 3° walking): the crouch is
+  at the hip.
 
 A converged optimum can fail any of them: :func:`walking_checks` reports each, and
 ``looks_like_walking`` is true only when all three pass (``issue_checks`` holds the issue's
