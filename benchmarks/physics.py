@@ -47,14 +47,14 @@ def main() -> int:
     y = rng.uniform(-0.1, 0.1, (nlp.N_Y, N))
     w0 = np.tile([[0.05], [1.0], [0.0], [0.0], [0.0], [0.02]], (1, N))
     hw = np.full((1, N), 0.08)
-    omega = 2 * np.pi / s.period
+    omega = 2 * np.pi / s.gait.period
     p = np.vstack([np.linspace(1, 0, N), np.full(N, -0.7), np.full(N, omega)])
 
     def numpy_eval():
         st = nlp.state_at(body, list(y), list(w0), hw[0], p[0], p[1], omega)
-        return nlp.node_outputs(body, s, st)
+        return nlp.node_outputs(body, s.model, st)
 
-    node = nlp.node_function(body, s)
+    node = nlp.node_function(body, s.model)
     mapped = node.map(N)
     print(f"NumPy, {N} nodes:                {_median_ms(numpy_eval):8.2f} ms")
     print(f"CasADi VM, {N} nodes:            {_median_ms(lambda: mapped(y, w0, hw, p)):8.2f} ms")

@@ -74,7 +74,7 @@ def main(argv: list[str] | None = None) -> int:
     solver = ipopt.build_solver(settings)
     from_cache = solver.from_cache
     compiled_kinds = sorted(solver.compiled)
-    solver.stage("balance_direct")
+    solver.stage(solver.plan.first)
     first_stage = time.perf_counter() - t0  # a solve's first iteration could start here
     solver.stage("full")  # the default path's stages, so no solve below pays for a build
     build = time.perf_counter() - t0
@@ -136,15 +136,15 @@ def main(argv: list[str] | None = None) -> int:
     for seed in range(args.first_seed, args.first_seed + args.starts):
         out = ipopt.solve(settings, seed)
         ev = evaluate_cycle(body, settings, out.x)
-        checks = walking_checks(ev.prediction_arrays, settings.period, settings.double_support,
-                                settings.mass)  # fmt: skip
-        crit = ev.criteria[f"C_{settings.criterion}"]["total"]
+        g = settings.gait
+        checks = walking_checks(ev.prediction_arrays, g.period, g.double_support, g.mass)
+        crit = ev.criteria[f"C_{settings.model.criterion}"]["total"]
         runs.append({"seed": seed, "converged": out.converged, "status": out.status,
                      "iterations": out.iterations, "attempts": out.attempts,
                      "wall_time_s": out.wall_time_s, "criterion": crit, "stages": out.stages,
                      "contact_residual_m": ev.contact_residual_m, **checks})  # fmt: skip
         print(f"seed {seed:3d}: {out.status:28s} {out.iterations:4d} it {out.wall_time_s:6.1f} s "
-              f"C_{settings.criterion} {crit:8.3f} knee {checks['knee_swing_max_deg']:4.0f} "
+              f"C_{settings.model.criterion} {crit:8.3f} knee {checks['knee_swing_max_deg']:4.0f} "
               f"hip {checks['hip_stance_max_deg']:4.0f} "
               f"walking {checks['looks_like_walking']}", flush=True)  # fmt: skip
         summarize()

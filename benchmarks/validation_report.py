@@ -23,6 +23,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 from walk3d.body.model import build_body  # noqa: E402
 from walk3d.io import read_cycle_table, read_storage  # noqa: E402
 from walk3d.io._atomic import atomic_write_text  # noqa: E402
+from walk3d.problem.settings import recorded_settings  # noqa: E402
 from walk3d.results.prediction import load_result  # noqa: E402
 from walk3d.validation.calibrate import calibrate_from_trial  # noqa: E402
 from walk3d.validation.compare import compare  # noqa: E402
@@ -206,7 +207,7 @@ def _document(args, d, cal, fit, floor, preds, comps, t3, rel, data) -> str:
     else:
         for k, p in preds.items():
             conv = p.summary.get("converged")
-            inp = p.summary.get("inputs", {})
+            inp = recorded_settings(p.summary) | {"seed": p.summary.get("seed")}
             lines.append(f"* {k}: `{getattr(args, k[2:].lower())}`, converged: "
                          f"{'yes' if conv else 'NO: not a valid prediction'}; V = "
                          f"{inp.get('speed', float('nan')):.4f} m/s, T = "

@@ -53,7 +53,8 @@ def test_stride_contact_and_symmetry(prediction):
 
 def test_looks_like_walking(prediction):
     pred, _ = prediction
-    ph = GaitPhases(pred.summary["inputs"]["period"], pred.summary["inputs"]["double_support"])
+    gait = pred.summary["settings"]["gait"]
+    ph = GaitPhases(gait["period"], gait["double_support"])
     knee = np.degrees(pred.dof("knee_flexion_r"))
     swing = ~ph.in_stance(pred.time, "r")
     assert knee[swing].max() >= 40.0

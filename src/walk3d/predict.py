@@ -32,8 +32,9 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "walk3d_version": __version__,
         "solve_revision": SOLVE_REVISION,
         "solved_as": _solved_as(settings),
-        "inputs": settings.model_dump() | {"seed": seed, "solver": solver},
+        "settings": settings.model_dump(),
         "seed": seed,
+        "method": solver,
         "converged": bool(outcome.converged),
         "status": outcome.status,
         "iterations": outcome.iterations,
@@ -48,10 +49,13 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "double_support_contact_residual_m": ev.contact_residual_m,
         "root_switch_continuity_residual_m": ev.continuity_residual_m,
         "stride_length_m": ev.stride_length_m,
-        "stride_length_target_m": settings.stride_length,
+        "stride_length_target_m": settings.gait.stride_length,
         "step_width_m": ev.step_width_m,
         "gait_checks": walking_checks(
-            ev.prediction_arrays, settings.period, settings.double_support, settings.mass
+            ev.prediction_arrays,
+            settings.gait.period,
+            settings.gait.double_support,
+            settings.gait.mass,
         ),
     }
 

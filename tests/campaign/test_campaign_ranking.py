@@ -92,7 +92,7 @@ def test_resume_may_add_starts_but_not_change_settings(tmp_path):
     assert store.open_campaign(out, TINY, 5, 8, "ipopt")["starts"] == 8
     assert store.read_campaign(out)["starts"] == 8
     with pytest.raises(store.CampaignMismatch, match="speed"):
-        store.open_campaign(out, TINY.model_copy(update={"speed": 1.2}), 5, 8, "ipopt")
+        store.open_campaign(out, TINY.replace(**{"speed": 1.2}), 5, 8, "ipopt")
     with pytest.raises(store.CampaignMismatch, match="base_seed"):
         store.open_campaign(out, TINY, 0, 8, "ipopt")
     # a campaign solved by another solver revision is refused: its starts ran otherwise

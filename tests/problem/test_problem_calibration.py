@@ -41,11 +41,11 @@ def test_rollover_fields_go_together():
 def test_ratios_set_the_trailing_foot_load_at_heel_strike():
     ratios = (0.2, 0.03, 0.1, -0.05)
     s = PredictionSettings(transition_ratios=ratios)
-    assert ratios_for(PredictionSettings()) is None
+    assert ratios_for(PredictionSettings().model) is None
     rng = np.random.default_rng(0)
     x = rng.uniform(-0.05, 0.05, layout.N_X)
     x[layout.I_HALF_STEP] = 0.08
-    ph = GaitPhases(s.period, s.double_support)
+    ph = GaitPhases(s.gait.period, s.gait.double_support)
     f, m = ev._hs_wrench(build_body(), s, ph, x, ph.heel_strike_r, "r")  # left foot trails
     assert f[0] == pytest.approx(0.2 * f[1]) and f[2] == pytest.approx(-0.03 * f[1])
     assert m[0] == pytest.approx(-0.1 * m[2]) and m[1] == pytest.approx(0.05 * m[2])

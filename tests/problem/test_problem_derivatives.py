@@ -70,7 +70,7 @@ def test_column_blocks_equal_the_node_derivatives(dynamics, criterion):
     derivatives as CasADi's."""
     s = PredictionSettings(nodes=6, criterion=criterion)
     crit = 0 if criterion == "tor" else 1
-    node = nlp.node_function(body_for(s), s, dynamics, with_hs=False, balance=True)
+    node = nlp.node_function(body_for(s), s.model, dynamics, with_hs=False, balance=True)
     jac, grad, hess = derivatives.node_derivatives(node, crit)
     blocks = derivatives.derivative_chunks(node, crit, chunks=5, prefix="t")
     assert [f.name() for f in blocks["hess"]] == [f"t_hess_{i}" for i in range(5)]

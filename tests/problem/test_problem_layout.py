@@ -78,12 +78,14 @@ def test_axis_split_sums_to_total():
 
 
 def test_balance_progress_checks_read_as_iteration_to_violation():
-    assert PredictionSettings().progress_checks() == {60: 3.0, 80: 0.1}
-    assert PredictionSettings(balance_progress_check=(80, 0.1)).progress_checks() == {80: 0.1}
-    assert PredictionSettings(balance_progress_check=None).progress_checks() == {}
+    assert PredictionSettings().solver.progress_checks() == {60: 3.0, 80: 0.1}
+    assert PredictionSettings(balance_progress_check=(80, 0.1)).solver.progress_checks() == {
+        80: 0.1
+    }
+    assert PredictionSettings(balance_progress_check=None).solver.progress_checks() == {}
     # a copy skips validation; the single pair is still one check
-    copy = PredictionSettings().model_copy(update={"balance_progress_check": (5, 1.0)})
-    assert copy.progress_checks() == {5: 1.0}
+    copy = PredictionSettings().replace(**{"balance_progress_check": (5, 1.0)})
+    assert copy.solver.progress_checks() == {5: 1.0}
 
 
 @pytest.mark.parametrize(

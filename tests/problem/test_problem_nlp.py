@@ -18,7 +18,7 @@ from walk3d.problem.settings import PredictionSettings
 def setup():
     s = PredictionSettings(nodes=8)
     body = build_body()
-    return s, body, nlp.node_function(body, s)
+    return s, body, nlp.node_function(body, s.model)
 
 
 def _random_node(seed):
@@ -36,12 +36,12 @@ def test_symbolic_node_function_matches_numpy_evaluation(setup):
     # ω comes from the node parameters (here T = 1.3 s, not the settings' 1.08 s)
     st = nlp.state_at(body, [np.array([v]) for v in y], [np.array([v]) for v in w0], hw,
                       p[0], p[1], p[2])  # fmt: skip
-    g_np, f_np, starts = nlp.node_outputs(body, s, st)
+    g_np, f_np, starts = nlp.node_outputs(body, s.model, st)
     g_np = [float(np.squeeze(v)) for v in g_np]
     np.testing.assert_allclose(g[: len(g_np)], g_np, rtol=1e-10, atol=1e-12)
     assert len(g) == nlp.N_G
     # slack rows: t - u± with u± the signed criterion terms; the objective is the slack sum
-    u_pos, u_neg = nlp.signed_terms(body, s, st)
+    u_pos, u_neg = nlp.signed_terms(body, s.model, st)
     u_pos = np.array([float(np.squeeze(v)) for v in u_pos])
     u_neg = np.array([float(np.squeeze(v)) for v in u_neg])
     np.testing.assert_allclose(g[nlp.G_ROWS["slack_pos"]], t - u_pos, rtol=1e-10, atol=1e-12)
@@ -78,19 +78,19 @@ def test_bounds_and_variables_have_matching_sizes(setup):
     # the loop is also checked between consecutive double-support nodes and at toe-off
     # (8 nodes: the last double-support node is well before it), within a tolerance
     t_loop = loop_check_times(s, sch)
-    assert t_loop.size == s.loop_checks * (sch.double_support.sum() - 1) + 1
-    assert t_loop[-1] == pytest.approx(sch.times[0] + s.double_support)
+    assert t_loop.size == s.model.loop_checks * (sch.double_support.sum() - 1) + 1
+    assert t_loop[-1] == pytest.approx(sch.times[0] + s.gait.double_support)
     assert b.lbg.size - (n_lift + sch.n * nlp.N_G + 6) - len(range_rows(body, s)[1]) == (
         6 * t_loop.size
     )
-    assert np.all(b.ubg[-6:] == s.loop_check_tolerance) and np.all(b.lbg[-6:] < 0)
+    assert np.all(b.ubg[-6:] == s.model.loop_check_tolerance) and np.all(b.lbg[-6:] < 0)
 
 
 def test_loop_function_matches_the_node_rows(setup):
     s, body, fn = setup
     y, w0, hw, p, t = _random_node(2)
     g = np.array(fn(y, w0, hw, p, t)[0]).ravel()
-    loop = np.array(nlp.loop_function(body, s)(y[: layout.N_COORD], hw, p[1])).ravel()
+    loop = np.array(nlp.loop_function(body, s.model)(y[: layout.N_COORD], hw, p[1])).ravel()
     rows = np.r_[nlp.G_ROWS["loop_position"], nlp.G_ROWS["loop_orientation"]]
     np.testing.assert_allclose(loop, g[rows], rtol=1e-10, atol=1e-12)
 
@@ -110,7 +110,7 @@ def test_balance_split_shares_the_reaction_as_the_full_stage(setup, decay):
     split = PredictionSettings(nodes=8, balance_split=True)
 
     def balance_rows(settings):
-        fn = nlp.node_function(body, settings, dynamics=False, balance=True)
+        fn = nlp.node_function(body, settings.model, dynamics=False, balance=True)
         return np.array(fn(y, w0, hw, p, t)[0]).ravel()[rows]
 
     g_full = np.array(full(y, w0, hw, p, t)[0]).ravel()[rows]

@@ -40,19 +40,19 @@ def _rows(criterion: str, scale_omega: bool = True):
     the row-group names whose scale involves time."""
     subject = PredictionSettings(criterion=criterion, **SUBJECT)
     ref, s = sim.reference_problem(subject)
-    own = subject.model_copy(update={"free_moment_radius": subject.free_moment_radius * s})
-    f_ref = nlp.node_function(body_for(ref), ref)
-    f_own = nlp.node_function(body_for(subject), own)
+    own = subject.replace(**{"free_moment_radius": subject.model.free_moment_radius * s})
+    f_ref = nlp.node_function(body_for(ref), ref.model)
+    f_own = nlp.node_function(body_for(subject), own.model)
     rng = np.random.default_rng(3)
     y = rng.uniform(-0.3, 0.3, nlp.N_Y)
     w0 = rng.uniform(-0.5, 0.5, 6)
     t = rng.uniform(0.0, 1.0, nlp.N_T)
-    p_ref = np.array([0.3, -0.7, 2 * np.pi / ref.period])
-    omega = 2 * np.pi / (subject.period if scale_omega else ref.period)
+    p_ref = np.array([0.3, -0.7, 2 * np.pi / ref.gait.period])
+    omega = 2 * np.pi / (subject.gait.period if scale_omega else ref.gait.period)
     p_own = np.array([0.3, -0.7 * s, omega])
     w0_own = np.concatenate([w0[:3], w0[3:] * s])  # moments in body weight × m
     # the criterion's unit: C_tor's integrand scales with s, C_en's with (m / m_ref) √s
-    c = s if criterion == "tor" else subject.mass / sim.REFERENCE_MASS_KG * math.sqrt(s)
+    c = s if criterion == "tor" else subject.gait.mass / sim.REFERENCE_MASS_KG * math.sqrt(s)
     g_ref, obj_ref = (np.array(v).ravel() for v in f_ref(y, w0, 0.08, p_ref, t))
     g_own, obj_own = (np.array(v).ravel() for v in f_own(y, w0_own, 0.08 * s, p_own, t * c))
     scale = _row_scale(s)
@@ -65,8 +65,8 @@ def _rows(criterion: str, scale_omega: bool = True):
 def test_the_subjects_node_rows_are_the_reference_subjects_in_other_units(criterion):
     subject = PredictionSettings(criterion=criterion, **SUBJECT)
     ref, s = sim.reference_problem(subject)
-    assert (ref.mass, ref.height) == (sim.REFERENCE_MASS_KG, sim.REFERENCE_HEIGHT_M)
-    assert ref.speed * ref.period == pytest.approx(subject.stride_length / s)
+    assert (ref.gait.mass, ref.gait.height) == (sim.REFERENCE_MASS_KG, sim.REFERENCE_HEIGHT_M)
+    assert ref.gait.speed * ref.gait.period == pytest.approx(subject.gait.stride_length / s)
     g_ref, obj_ref, g_own, obj_own, scale, c = _rows(criterion)
     assert np.abs(g_ref).max() > 0.1
     np.testing.assert_allclose(g_own, scale * g_ref, rtol=1e-9, atol=1e-12)
@@ -110,13 +110,13 @@ def test_the_subjects_cycle_is_the_reference_cycle_scaled(calibrated):
     a = evaluate_cycle(body_for(ref), ref, x)
     b = evaluate_cycle(body_for(subject), subject, sim.subject_x(x, s))
     pa, pb = a.prediction_arrays, b.prediction_arrays
-    k_m = subject.mass / sim.REFERENCE_MASS_KG
+    k_m = subject.gait.mass / sim.REFERENCE_MASS_KG
     np.testing.assert_allclose(pb["time"], pa["time"] * math.sqrt(s), rtol=1e-12)
     np.testing.assert_allclose(pb["joint_angle"], pa["joint_angle"], atol=1e-9)
     np.testing.assert_allclose(pb["segment_com_position"], pa["segment_com_position"] * s,
                                atol=1e-9)  # fmt: skip
-    np.testing.assert_allclose(pb["grf_force"] / (subject.mass * G),
-                               pa["grf_force"] / (ref.mass * G), atol=1e-9)  # fmt: skip
+    np.testing.assert_allclose(pb["grf_force"] / (subject.gait.mass * G),
+                               pa["grf_force"] / (ref.gait.mass * G), atol=1e-9)  # fmt: skip
     np.testing.assert_allclose(pb["joint_moment"], pa["joint_moment"] * k_m * s, atol=1e-7)
     assert np.abs(pa["joint_moment"]).max() > 1.0
     ca, cb = a.criteria, b.criteria
@@ -130,14 +130,14 @@ def test_the_reference_subject_is_solved_as_given():
     base = PredictionSettings()
     ref, s = sim.reference_problem(base)
     assert ref is base and s == 1.0
-    heavier, s = sim.reference_problem(base.model_copy(update={"mass": 90.0}))
+    heavier, s = sim.reference_problem(base.replace(**{"mass": 90.0}))
     assert s == 1.0 and heavier == base  # only the mass differed
     ankle = [(0.0, 0.08, 0.0), (0.05, 0.075, 0.0), (0.1, 0.07, 0.0)]
     calibrated = PredictionSettings(height=1.6, rollover_s=[0.0, 0.1, 0.2], rollover_ankle=ankle)
     ref, s = sim.reference_problem(calibrated)
-    assert s == pytest.approx(1.6 / 1.77) and ref.height == sim.REFERENCE_HEIGHT_M
-    assert ref.rollover_s == calibrated.rollover_s  # foot rotations: no unit
-    np.testing.assert_allclose(np.array(ref.rollover_ankle) * s, ankle, rtol=1e-15)
+    assert s == pytest.approx(1.6 / 1.77) and ref.gait.height == sim.REFERENCE_HEIGHT_M
+    assert ref.model.rollover_s == calibrated.model.rollover_s  # foot rotations: no unit
+    np.testing.assert_allclose(np.array(ref.model.rollover_ankle) * s, ankle, rtol=1e-15)
     x = np.zeros(layout.N_X)
     x[layout.I_HALF_STEP] = 0.05
     assert sim.subject_x(x, 1.1)[layout.I_HALF_STEP] == pytest.approx(0.055)

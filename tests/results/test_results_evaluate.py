@@ -31,7 +31,7 @@ def test_ground_reaction_equals_momentum_rate_of_the_segments(cycle):
     mass = a["segment_mass"]
     expected = np.einsum("s,nsk->nk", mass, acc) + np.array([0, mass.sum() * G, 0])
     total = a["grf_force"].sum(axis=1)[1:-1]
-    ph = GaitPhases(s.period, s.double_support)
+    ph = GaitPhases(s.gait.period, s.gait.double_support)
     tm = t[1:-1]
     away = (np.abs(tm - ph.heel_strike_r) > 5 * dt) & (np.abs(tm - ph.heel_strike_l) > 5 * dt)
     err = np.abs(total - expected)[away]
@@ -41,7 +41,7 @@ def test_ground_reaction_equals_momentum_rate_of_the_segments(cycle):
 def test_feet_are_loaded_only_in_stance_and_split_exactly(cycle):
     s, _, _, ev = cycle
     a = ev.prediction_arrays
-    ph = GaitPhases(s.period, s.double_support)
+    ph = GaitPhases(s.gait.period, s.gait.double_support)
     for k, side in enumerate(("r", "l")):
         swing = ~ph.in_stance(a["time"], side)
         assert np.all(a["grf_force"][swing, k] == 0.0)

@@ -7,7 +7,7 @@ import pytest
 
 from walk3d.io import model_cache
 from walk3d.problem import nlp
-from walk3d.problem.settings import PredictionSettings, body_for
+from walk3d.problem.settings import ModelSettings, PredictionSettings, body_for
 from walk3d.solve import ipopt, solver
 
 SETTINGS = PredictionSettings(nodes=6, max_iter=3, balance_max_iter=3)
@@ -21,8 +21,7 @@ def cache_dir(tmp_path, monkeypatch):
 
 
 def _key(settings: PredictionSettings) -> str:
-    exclude = set(solver.RUNTIME_FIELDS)
-    return model_cache.model_key(settings.model_dump(exclude=exclude), body_for(settings))
+    return solver._model_key(body_for(settings), settings.model)
 
 
 def _small_functions() -> dict[str, ca.Function]:
@@ -48,8 +47,8 @@ def test_solver_from_cache_equals_a_fresh_one(cache_dir):
     lam = np.random.default_rng(1).normal(size=fresh.stage_bounds("full").lbg.size)
     for name, args in [("nlp_f", [z, []]), ("nlp_g", [z, []]), ("nlp_jac_g", [z, []]),
                        ("nlp_grad_f", [z, []]), ("nlp_hess_l", [z, [], 0.7, lam])]:  # fmt: skip
-        a = fresh.full.get_function(name)(*args)
-        b = cached.full.get_function(name)(*args)
+        a = fresh.stage("full").get_function(name)(*args)
+        b = cached.stage("full").get_function(name)(*args)
         for u, v in zip(a if isinstance(a, tuple) else [a], b if isinstance(b, tuple) else [b],
                         strict=True):  # fmt: skip
             assert u.sparsity() == v.sparsity(), name
@@ -57,11 +56,11 @@ def test_solver_from_cache_equals_a_fresh_one(cache_dir):
     # a few IPOPT iterations take the same steps
     for stage in ("balance", "posture"):
         b = fresh.stage_bounds(stage)
-        x_fresh = _run(getattr(fresh, stage), z0, b)
-        np.testing.assert_array_equal(x_fresh, _run(getattr(cached, stage), z0, b), stage)
+        x_fresh = _run(fresh.stage(stage), z0, b)
+        np.testing.assert_array_equal(x_fresh, _run(cached.stage(stage), z0, b), stage)
     zf = ipopt.full_stage_start(fresh, z0)
-    np.testing.assert_array_equal(_run(fresh.full, zf, fresh.stage_bounds("full")),
-                                  _run(cached.full, zf, cached.stage_bounds("full")))  # fmt: skip
+    full = [(sv.stage("full"), zf, sv.stage_bounds("full")) for sv in (fresh, cached)]
+    np.testing.assert_array_equal(_run(*full[0]), _run(*full[1]))
 
 
 def test_a_damaged_entry_is_rebuilt_and_rewritten(cache_dir, caplog, recorded):
@@ -138,12 +137,12 @@ def test_switch_and_location(monkeypatch, tmp_path):
 
 def test_key_follows_the_model_not_the_solver_options():
     base = _key(SETTINGS)
-    assert base == _key(SETTINGS.model_copy(update={"nodes": 20, "max_iter": 50, "tol": 1e-8}))
+    assert base == _key(SETTINGS.replace(**{"nodes": 20, "max_iter": 50, "tol": 1e-8}))
     descriptors = {"speed": 1.1, "period": 1.2, "double_support": 0.2}  # node parameters
-    assert base == _key(SETTINGS.model_copy(update=descriptors))
+    assert base == _key(SETTINGS.replace(**descriptors))
     for change in [{"mass": 70.0}, {"criterion": "en"},
                    {"transition_ratios": (0.2, 0.05, 0.1, 0.3)}]:  # fmt: skip
-        assert _key(SETTINGS.model_copy(update=change)) != base, change
+        assert _key(SETTINGS.replace(**change)) != base, change
 
 
 class _Recorder:
@@ -160,16 +159,22 @@ class _Recorder:
 @pytest.fixture(scope="module")
 def recorded() -> tuple[dict[str, ca.Function], set[str]]:
     """The model functions of SETTINGS, and the settings fields their construction read."""
-    rec = _Recorder(SETTINGS)
+    rec = _Recorder(SETTINGS.model)
     return nlp.model_functions(body_for(SETTINGS), rec), rec.read
 
 
-def test_model_functions_do_not_read_the_fields_left_out_of_the_key(recorded):
+def test_model_functions_read_only_the_model_settings_of_the_key(recorded):
+    """The key is the body and the whole model group, and the model functions receive nothing
+    else: they read model fields (a recorder on the group sees them), and a field they read
+    changes both the functions and the key (negative control)."""
     fns, read = recorded
     assert set(fns) == {"loop"} | {nlp._node_name(d, b, h) for d, b in nlp.STAGES.values()
                                    for h in (True, False)}  # fmt: skip
-    assert read and not read & solver.RUNTIME_FIELDS, read & solver.RUNTIME_FIELDS
-    assert read <= set(PredictionSettings.model_fields) | {"stride_length"}
+    assert {"criterion", "friction", "absolute"} <= read <= set(ModelSettings.model_fields)
+    rougher = SETTINGS.replace(friction=0.6)
+    assert _key(rougher) != _key(SETTINGS)
+    node = nlp.node_function(body_for(rougher), rougher.model)
+    assert node.serialize() != fns[nlp._node_name(True, True, False)].serialize()
 
 
 def test_gait_descriptors_leave_the_node_functions_unchanged(recorded):
@@ -177,14 +182,14 @@ def test_gait_descriptors_leave_the_node_functions_unchanged(recorded):
     functions, and with them the key of their compiled derivatives (walk3d compile), are the
     same for any descriptors; the body is not a parameter, so another mass changes them."""
     fns, _ = recorded
-    other = SETTINGS.model_copy(update={"speed": 1.1, "period": 1.25, "double_support": 0.2})
-    assert other.stride_length != SETTINGS.stride_length
-    again = nlp.model_functions(body_for(other), other)
+    other = SETTINGS.replace(**{"speed": 1.1, "period": 1.25, "double_support": 0.2})
+    assert other.gait.stride_length != SETTINGS.gait.stride_length
+    again = nlp.model_functions(body_for(other), other.model)
     assert {k: f.serialize() for k, f in again.items()} == {
         k: f.serialize() for k, f in fns.items()
     }
     for kind in solver.COMPILED_NODES:
         assert solver._compiled_key(again, other, kind) == solver._compiled_key(fns, SETTINGS, kind)
-    heavier = SETTINGS.model_copy(update={"mass": 80.0})
-    node = nlp.node_function(body_for(heavier), heavier)
+    heavier = SETTINGS.replace(**{"mass": 80.0})
+    node = nlp.node_function(body_for(heavier), heavier.model)
     assert node.serialize() != fns[nlp._node_name(True, True, False)].serialize()

@@ -81,9 +81,9 @@ def test_compiled_libraries_follow_the_node_functions(fake_compiler):
     through node parameters; mass and stature, solved as the reference subject's problem)
     share them."""
     solver.compile_solver(SETTINGS)
-    other = SETTINGS.model_copy(update={"sex": "female"})
+    other = SETTINGS.replace(**{"sex": "female"})
     assert solver.compiled_status(other)["missing"] == 4 * solver.CHUNKS
-    other_criterion = SETTINGS.model_copy(update={"criterion": "tor"})
+    other_criterion = SETTINGS.replace(**{"criterion": "tor"})
     assert solver.compiled_status(other_criterion)["missing"] == 4 * solver.CHUNKS
     for same in ({"nodes": 8, "threads": 2}, {"speed": 1.2}, {"mass": 80.0, "height": 1.6}):
-        assert solver.compiled_status(SETTINGS.model_copy(update=same))["missing"] == 0
+        assert solver.compiled_status(SETTINGS.replace(**same))["missing"] == 0

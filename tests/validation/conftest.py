@@ -49,5 +49,5 @@ def synthetic_prediction():
     x[layout.fixed_zero_mask()] = 0.0
     x[layout.I_HALF_STEP] = 0.08
     ev = evaluate_cycle(body, settings, x)
-    summary = {"inputs": settings.model_dump(), "objective": ev.criteria}
+    summary = {"settings": settings.model_dump(), "objective": ev.criteria}
     return make_prediction(ev.prediction_arrays, summary)

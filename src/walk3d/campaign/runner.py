@@ -177,7 +177,7 @@ def run_campaign(
     records = store.finished_records(out, repair=True)
     seeds = [base_seed + k for k in range(starts)]
     pending = [s for s in seeds if s not in records]
-    criterion = settings.criterion
+    criterion = settings.model.criterion
     with _progress(console, progress) as bar:
         job = bar.add_task("starts", total=starts, completed=starts - len(pending),
                            note=_note(records, criterion))  # fmt: skip
@@ -226,7 +226,7 @@ def _run_pending(
             if future.status != "error":  # cancelled or lost: leave the start for a resume
                 continue
             # the task raised outside its own guard, or its worker died (KilledWorker)
-            record = task.write_error(root, seed, settings.criterion, exc)
+            record = task.write_error(root, seed, settings.model.criterion, exc)
         records[seed] = record
         advance()
         future.release()

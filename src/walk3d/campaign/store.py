@@ -29,7 +29,7 @@ from typing import Any
 
 from walk3d import __version__
 from walk3d.io._atomic import atomic_write_text
-from walk3d.problem.settings import PredictionSettings
+from walk3d.problem.settings import PredictionSettings, flat_settings
 from walk3d.solve import SOLVE_REVISION
 
 __all__ = [
@@ -109,7 +109,8 @@ def read_campaign(out_dir: str | Path) -> dict:
 
 def _mismatch(stored: dict, requested: dict) -> str | None:
     """The first difference between two campaign descriptions, as a phrase, or None."""
-    s_set, r_set = stored.get("settings", {}), requested["settings"]
+    s_set = flat_settings(stored.get("settings", {}))
+    r_set = flat_settings(requested["settings"])
     for key in sorted(set(s_set) | set(r_set)):
         if s_set.get(key) != r_set.get(key):
             return (f"{key}: stored {_describe(s_set.get(key))}, "
@@ -144,7 +145,7 @@ def open_campaign(
         "walk3d_version": __version__,
         "solve_revision": SOLVE_REVISION,
         "settings": clean_json(settings.model_dump()),
-        "criterion": settings.criterion,
+        "criterion": settings.model.criterion,
         "solver": solver,
         "base_seed": base_seed,
         "starts": starts,
@@ -155,7 +156,8 @@ def open_campaign(
             stored = read_campaign(out)
         except (OSError, ValueError) as exc:
             raise CampaignMismatch(f"{path} is unreadable ({exc}); use a new --out") from None
-        added = sorted(set(requested["settings"]) - set(stored.get("settings", {})))
+        added = sorted(set(flat_settings(requested["settings"]))
+                       - set(flat_settings(stored.get("settings", {}))))  # fmt: skip
         if added:  # settings introduced since: its starts may have run otherwise
             raise CampaignMismatch(f"{out} holds a campaign made by an earlier walk3d, without "
                                    f"the setting {', '.join(added)}; use a new --out")  # fmt: skip

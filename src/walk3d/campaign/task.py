@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from walk3d.campaign import store
+from walk3d.problem.settings import flat_settings
 
 __all__ = ["error_record", "record_from_summary", "run_start"]
 
@@ -66,7 +67,7 @@ def record_from_summary(summary: dict, criterion: str, task_time_s: float) -> di
         "wall_time_s": summary.get("wall_time_s"),
         "task_time_s": round(task_time_s, 3),
         "max_constraint_violation": summary.get("max_constraint_violation"),
-        "solver": (summary.get("inputs") or {}).get("solver"),
+        "solver": summary.get("method", (summary.get("inputs") or {}).get("solver")),
         "looks_like_walking": (summary.get("gait_checks") or {}).get("looks_like_walking"),
     }
     for key in CRITERIA:
@@ -123,7 +124,7 @@ def run_start(settings_dict: dict, seed: int, solver: str, starts_dir: str) -> d
     existing = store.read_record(root / store.start_name(seed))
     if existing is not None:
         return existing
-    criterion = str(settings_dict.get("criterion", "tor"))
+    criterion = str(flat_settings(settings_dict).get("criterion", "tor"))
     t0 = time.perf_counter()
     tmp = store.new_temporary(root, store.start_name(seed))
     try:

@@ -191,7 +191,7 @@ def predict(
         comp = s.get("compiled_derivatives") or []
         t.add_row("derivatives", f"compiled C ({', '.join(comp)})" if comp else
                   "CasADi VM (run `walk3d compile` once for faster solves)")  # fmt: skip
-        t.add_row("linear algebra", f"{settings.linear_solver.upper()} on {s['blas']}")
+        t.add_row("linear algebra", f"{settings.solver.linear_solver.upper()} on {s['blas']}")
     for key in ("C_tor", "C_en"):
         c = s["objective"][key]
         t.add_row(key, f"{c['total']:.4g}  (x {c['x']:.3g}, y {c['y']:.3g}, z {c['z']:.3g})")

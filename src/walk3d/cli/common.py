@@ -110,7 +110,7 @@ def settings_from_options(criterion: str, solver: str, seed: int, **fields):
         settings = PredictionSettings(criterion=criterion, **fields)
     except ValueError as exc:
         fail(first_error(exc))
-    if settings.linear_solver != "mumps" and solver == "ipopt":
+    if settings.solver.linear_solver != "mumps" and solver == "ipopt":
         from walk3d.solve.options import linear_solver_error
 
         problem = linear_solver_error(settings)

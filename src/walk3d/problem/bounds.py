@@ -47,7 +47,7 @@ def _coord_bounds(
     # right foot (root): heel rocker in double support, flat in single stance
     lo[ds, 0, r], hi[ds, 0, r] = 0.0, s_up
     # (a 5th-order series cannot vanish over a whole interval: "flat" means within a tolerance)
-    flat = np.sin(settings.foot_flat_tolerance / 2)
+    flat = np.sin(settings.model.foot_flat_tolerance / 2)
     lo[sw, 0, r], hi[sw, 0, r] = -flat, flat
     # left foot: toe rocker while trailing, heel first at its strike, unused in swing
     lo[ds, 0, lft], hi[ds, 0, lft] = s_down, 0.0
@@ -67,8 +67,8 @@ def bounds(
     stage, ``balance=False`` leaves the total-reaction rows (force, friction, COP) unbounded:
     a purely geometric first pass."""
     n_nodes = sch.n
-    slack = dynamics and settings.absolute == "slack"
-    per_foot = per_foot_loads(settings, dynamics, balance)
+    slack = dynamics and settings.model.absolute == "slack"
+    per_foot = per_foot_loads(settings.model, dynamics, balance)
     # x: symmetry-fixed coefficients, half step width
     lbx = np.full(layout.N_X, -np.inf)
     ubx = np.full(layout.N_X, np.inf)
@@ -95,7 +95,7 @@ def bounds(
             # bounding them would pin IPOPT's slacks at their bounds)
             glo[k, R["other_force"].start] = 0.0
             ghi[k, R["other_force"].start + 1 : R["other_force"].stop] = 0.0
-        ghi[k, R["ankle_separation"]] = -settings.min_ankle_separation
+        ghi[k, R["ankle_separation"]] = -settings.model.min_ankle_separation
         glo[k, R["torso"]] = np.sin(body.torso_range[:, 0] / 2)
         ghi[k, R["torso"]] = np.sin(body.torso_range[:, 1] / 2)
         weighted = dynamics or balance
@@ -114,7 +114,7 @@ def bounds(
     n_lift = n_nodes * N_Y
     _, rlo, rhi = range_rows(body, settings)
     n_loop = 6 * loop_check_times(settings, sch).size
-    tol = np.full(n_loop, settings.loop_check_tolerance)
+    tol = np.full(n_loop, settings.model.loop_check_tolerance)
     lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo, -tol])
     ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6), rhi, tol])
     return Bounds(lbz, ubz, lbg, ubg)

@@ -57,7 +57,7 @@ class NlpPieces:
     g_loop: ca.MX
     x: ca.MX
     threads: int = 1
-    """Threads for the mapped node derivatives (``settings.threads``)."""
+    """Threads for the mapped node derivatives (``settings.solver.threads``)."""
     node_derivs: NodeDerivs | None = None
     """``(jac, grad, hess)`` of the mapped node function, if built elsewhere (compiled C, from
     :func:`derivative_chunks`; ``hess`` may be the list of its column blocks, then mapped by

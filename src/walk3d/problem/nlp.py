@@ -34,7 +34,7 @@ from walk3d.problem.criteria import POWER_SCALE_W, node_terms
 from walk3d.problem.derivatives import NlpPieces, NodeDerivs, derivative_functions
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
 from walk3d.problem.schedule import loop_check_times, range_rows, schedule
-from walk3d.problem.settings import PredictionSettings, ratios_for
+from walk3d.problem.settings import ModelSettings, PredictionSettings, ratios_for
 
 N_Y = layout.N_Y
 G_ROWS = {
@@ -105,7 +105,7 @@ def state_at(
     )
 
 
-def signed_terms(body: BodyModel, settings: PredictionSettings, st: GaitState):
+def signed_terms(body: BodyModel, model: ModelSettings, st: GaitState):
     """Per DoF, ``(u⁺, u⁻)`` with ``max(u⁺, u⁻)`` the exact criterion integrand.
 
     C_tor: ``u⁺ = M/M⁺``, ``u⁻ = -M/M⁻`` (direction-dependent strength). C_en: ``±P/P_ref``
@@ -114,7 +114,7 @@ def signed_terms(body: BodyModel, settings: PredictionSettings, st: GaitState):
     moments, rates, _ = dof_moment_terms(body, st)
     pos = np.concatenate([j.strength_pos for j in body.joints])
     neg = np.concatenate([j.strength_neg for j in body.joints])
-    if settings.criterion == "tor":
+    if model.criterion == "tor":
         return [m / pos[i] for i, m in enumerate(moments)], [
             -m / neg[i] for i, m in enumerate(moments)
         ]
@@ -122,10 +122,10 @@ def signed_terms(body: BodyModel, settings: PredictionSettings, st: GaitState):
     return powers, [-p for p in powers]
 
 
-def node_outputs(body: BodyModel, settings: PredictionSettings, st: GaitState):
+def node_outputs(body: BodyModel, model: ModelSettings, st: GaitState):
     """Constraint rows (list of N_G) and objective terms ``[C_tor, C_en/EN_SCALE]`` per node."""
     wf = body.mass * G
-    mu = settings.friction
+    mu = model.friction
 
     def force_rows(w):
         f = w[0]
@@ -147,17 +147,17 @@ def node_outputs(body: BodyModel, settings: PredictionSettings, st: GaitState):
     )  # fmt: skip
     moments, rates, _ = dof_moment_terms(body, st)
     a, b = strength_weights(body)
-    tor, en = node_terms(moments, rates, a, b, settings.smoothing)
+    tor, en = node_terms(moments, rates, a, b, model.smoothing)
     return g, [sum(tor), sum(en) / EN_SCALE], y_norms
 
 
-def per_foot_loads(settings: PredictionSettings, dynamics: bool, balance: bool) -> bool:
+def per_foot_loads(model: ModelSettings, dynamics: bool, balance: bool) -> bool:
     """Whether a stage's NLP shares the reaction between the feet and bounds each foot's part
-    under that foot: the full stage, and the balance stage with ``settings.balance_split``."""
-    return dynamics or balance and settings.balance_split
+    under that foot: the full stage, and the balance stage with ``model.balance_split``."""
+    return dynamics or balance and model.balance_split
 
 
-def _support(body: BodyModel, settings: PredictionSettings, st: GaitState, per_foot: bool):
+def _support(body: BodyModel, model: ModelSettings, st: GaitState, per_foot: bool):
     """Rows of :mod:`walk3d.contact.support`: root foot, then other foot, each under its own
     load when ``per_foot`` (full stage, and the balance stage with ``balance_split``).
 
@@ -166,7 +166,7 @@ def _support(body: BodyModel, settings: PredictionSettings, st: GaitState, per_f
     (double support: the box from the trailing left heel to the leading right toe, and from the
     left to the right fifth metatarsal head).
     """
-    wf, mu, r = body.mass * G, settings.friction, settings.free_moment_radius
+    wf, mu, r = body.mass * G, model.friction, model.free_moment_radius
     pts = {s: foot_points(st.pose, body.segment_index(f"foot_{s}"), body.foot.points(s))
            for s in ("r", "l")}  # fmt: skip
     rows = support_rows(st.feet["r"], pts["r"], "r", wf, mu, r)
@@ -178,7 +178,7 @@ def _support(body: BodyModel, settings: PredictionSettings, st: GaitState, per_f
 
 def node_function(
     body: BodyModel,
-    settings: PredictionSettings,
+    model: ModelSettings,
     dynamics: bool = True,
     with_hs: bool = True,
     balance: bool = True,
@@ -186,7 +186,7 @@ def node_function(
     """``walk3d_node(y[78], w0[6], hw, p[3], t[24]) -> (g[N_G], f[2])`` in SX,
     ``p = [decay, anchor_x, ω]`` (:data:`N_P`).
 
-    Criterion form (``settings.absolute``):
+    Criterion form (``model.absolute``):
 
     * ``slack`` (default): the integrand ``|u|`` is replaced by a slack ``t ≥ u⁺, t ≥ u⁻`` per
       DoF (:func:`signed_terms`), and ``f = Σ t``. This is exact at the optimum and smooth:
@@ -210,9 +210,9 @@ def node_function(
     p = ca.SX.sym("p", N_P)
     t = ca.SX.sym("t", N_T)
     yl, w0l = [y[i] for i in range(N_Y)], [w0[i] for i in range(6)]
-    per_foot = per_foot_loads(settings, dynamics, balance)
+    per_foot = per_foot_loads(model, dynamics, balance)
     st = state_at(body, yl, w0l, hw, p[0], p[1], p[2], dynamics, balance, per_foot)
-    g, f, starts = node_outputs(body, settings, st)
+    g, f, starts = node_outputs(body, model, st)
     if not dynamics:
         n = layout.N_COORD
         rate = sum(y[n + i] ** 2 + y[2 * n + i] ** 2 for i in range(n)) / n
@@ -222,18 +222,18 @@ def node_function(
         g[G_ROWS["hs_wrench"]] = [0.0] * 6
     for s in starts:  # |vector part|² of each ball joint stays below 1
         g.append(y[s] ** 2 + y[s + 1] ** 2 + y[s + 2] ** 2)
-    if dynamics and settings.absolute == "slack":
-        u_pos, u_neg = signed_terms(body, settings, st)
+    if dynamics and model.absolute == "slack":
+        u_pos, u_neg = signed_terms(body, model, st)
         g += [t[i] - u for i, u in enumerate(u_pos)] + [t[i] - u for i, u in enumerate(u_neg)]
         total = ca.sum1(t)
         f = [total, total * POWER_SCALE_W / EN_SCALE]
     else:
         g += [0.0] * (2 * N_T)
-    g += _support(body, settings, st, per_foot)
+    g += _support(body, model, st, per_foot)
     return ca.Function("walk3d_node", [y, w0, hw, p, t], [ca.vertcat(*g), ca.vertcat(*f)])
 
 
-def loop_function(body: BodyModel, settings: PredictionSettings) -> ca.Function:
+def loop_function(body: BodyModel, model: ModelSettings) -> ca.Function:
     """``walk3d_loop(c[26], hw, anchor_x) -> loop[6]``: closed-loop position and orientation
     residuals of the other foot from the 26 coordinate values alone (no rates needed)."""
     c = ca.SX.sym("c", layout.N_COORD)
@@ -253,30 +253,30 @@ def _node_name(dynamics: bool, balance: bool, with_hs: bool) -> str:
     return f"node_d{int(dynamics)}b{int(balance)}h{int(with_hs)}"
 
 
-def model_functions(body: BodyModel, settings: PredictionSettings) -> dict[str, ca.Function]:
+def model_functions(body: BodyModel, model: ModelSettings) -> dict[str, ca.Function]:
     """The SX functions the NLPs of :data:`STAGES` call, by name: two node functions per stage
     (with and without the heel-strike rows) and the loop function. Built in Python, they are
     the part of a build CasADi reads back quickly, so :mod:`walk3d.io.model_cache` keeps them.
     """
-    fns = {"loop": loop_function(body, settings)}
+    fns = {"loop": loop_function(body, model)}
     for dynamics, balance in STAGES.values():
         for with_hs in (True, False):
-            fn = node_function(body, settings, dynamics, with_hs=with_hs, balance=balance)
+            fn = node_function(body, model, dynamics, with_hs=with_hs, balance=balance)
             fns[_node_name(dynamics, balance, with_hs)] = fn
     return fns
 
 
 def node_params(settings: PredictionSettings, sch) -> np.ndarray:
     """``(N_P, n_nodes)``: each node's ``[decay, anchor_x, ω]`` (:data:`N_P`)."""
-    omega = np.full(sch.n, 2 * np.pi / settings.period)
+    omega = np.full(sch.n, 2 * np.pi / settings.gait.period)
     return np.stack([sch.decay, sch.anchor_other_x, omega])
 
 
 def lifting_maps(settings: PredictionSettings, sch) -> np.ndarray:
     """``(n_nodes, 78, N_X)`` maps from the coefficients to each node's ``Y_k`` (values, rates
     / ω, accelerations / ω²)."""
-    a0, a1, a2 = layout.coordinate_maps(sch.times, settings.period)
-    omega = 2 * np.pi / settings.period
+    a0, a1, a2 = layout.coordinate_maps(sch.times, settings.gait.period)
+    omega = 2 * np.pi / settings.gait.period
     return np.concatenate([a0, a1 / omega, a2 / omega**2], axis=1)
 
 
@@ -303,12 +303,12 @@ def build_nlp(
 
     def node_fn(with_hs: bool) -> ca.Function:
         fn = fns.get(_node_name(dynamics, balance, with_hs))
-        return fn or node_function(body, settings, dynamics, with_hs=with_hs, balance=balance)
+        return fn or node_function(body, settings.model, dynamics, with_hs=with_hs, balance=balance)
 
     # without dynamics (and without the balance split) the heel-strike rows are zeros anyway: one
     # node function (and one set of derivatives to build) serves every node
     node = node_fn(False)
-    node0 = node_fn(True) if per_foot_loads(settings, dynamics, balance) else node
+    node0 = node_fn(True) if per_foot_loads(settings.model, dynamics, balance) else node
     n_nodes = sch.n
     lift = lifting_maps(settings, sch)
     x = ca.MX.sym("x", layout.N_X)
@@ -321,32 +321,34 @@ def build_nlp(
     params = ca.DM(node_params(settings, sch))
     g0, f0 = node0(ys[:, 0], w0, hw, params[:, 0], ts[:, 0])
     rest = n_nodes - 1
-    mapped = node.map(rest, "thread", settings.threads) if settings.threads > 1 else node.map(rest)
+    threads = settings.solver.threads
+    mapped = node.map(rest, "thread", threads) if threads > 1 else node.map(rest)
     gr, fr = mapped(ys[:, 1:], ca.repmat(w0, 1, rest), ca.repmat(hw, 1, rest),
                             params[:, 1:], ts[:, 1:])  # fmt: skip
     gk, fk = ca.horzcat(g0, gr), ca.horzcat(f0, fr)
-    hs_map = _hs_map(ratios_for(settings))  # calibrated Eqs. 7–8 for the trailing (left) foot
+    hs_map = _hs_map(ratios_for(settings.model))  # calibrated Eqs. 7–8 for the trailing (left) foot
     g_hs = ca.mtimes(ca.DM(hs_map), g0[G_ROWS["hs_wrench"]]) - w0
-    crit = 0 if settings.criterion == "tor" else 1
+    crit = 0 if settings.model.criterion == "tor" else 1
     f = 2.0 * sch.step * ca.sum2(fk[crit, :])
     z = ca.vertcat(x, ca.vec(ys), w0, ca.vec(ts))
     range_np = range_rows(body, settings)[0]
     range_mat = ca.sparsify(ca.DM(range_np))
     t_loop = loop_check_times(settings, sch)
     if t_loop.size:
-        c_map = ca.DM(layout.coordinate_maps(t_loop, settings.period)[0].reshape(-1, layout.N_X))
+        c_map = layout.coordinate_maps(t_loop, settings.gait.period)[0].reshape(-1, layout.N_X)
+        c_map = ca.DM(c_map)
         c_loop = ca.reshape(ca.mtimes(ca.sparsify(c_map), x), layout.N_COORD, t_loop.size)
-        anchor = ca.DM(np.full((1, t_loop.size), -settings.stride_length / 2))
-        loop = fns.get("loop") or loop_function(body, settings)
+        anchor = ca.DM(np.full((1, t_loop.size), -settings.gait.stride_length / 2))
+        loop = fns.get("loop") or loop_function(body, settings.model)
         g_loop = ca.vec(loop.map(t_loop.size)(c_loop, hw, anchor))
     else:
         g_loop = ca.MX(0, 1)
     g = ca.vertcat(g_lift, ca.vec(gk), g_hs, ca.mtimes(range_mat, x), g_loop)
     prob = {"x": z, "f": f, "g": g}
-    if settings.derivatives == "structured":
+    if settings.solver.derivatives == "structured":
         pieces = NlpPieces(z, f, g, node0, node, np.asarray(params), lift, range_np,
                            G_ROWS["hs_wrench"], hs_map, 2.0 * sch.step, crit, N_G,
-                           g_loop, x, settings.threads, node_derivs)  # fmt: skip
+                           g_loop, x, settings.solver.threads, node_derivs)  # fmt: skip
         prob["derivatives"] = derivative_functions(pieces)
     return prob, sch, lift
 

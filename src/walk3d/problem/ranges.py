@@ -16,7 +16,7 @@ Measured arm swing in walking stays within about ±35° of shoulder flexion and 
 flexion. With the anatomical ranges (shoulder −60…170° flexion, elbow 0…150°) C_tor optima
 whirled the arms through ±130° at twice the stride frequency while the hips crouched to 65°
 (docs/solver.md) — the paper's own complaint about its arms, in a worse form. Set
-``settings.arm_walking_ranges = False`` for the anatomical ranges.
+``settings.model.arm_walking_ranges = False`` for the anatomical ranges.
 """
 
 LEG_WALKING_RANGE_DEG = {"knee": ((-5.0, 90.0),)}
@@ -32,15 +32,15 @@ several factorizations per iteration), so the balance stage crawled for hundreds
 the balance stage after the posture fallback converged in 42–88 iterations on 16 of the 18
 starts that took the fallback (without it: 50–800 iterations, five of 17 ran to 800), and the
 20 starts took a third less time.
-Set ``settings.leg_walking_ranges = False`` for the anatomical range.
+Set ``settings.model.leg_walking_ranges = False`` for the anatomical range.
 """
 
 
 def joint_ranges(body: BodyModel, settings: PredictionSettings) -> np.ndarray:
     """(24, 2) joint-coordinate ranges in rad, DoF order: anatomical, narrowed to walking for
     the arms (``arm_walking_ranges``) and the knees (``leg_walking_ranges``)."""
-    walking = {**(ARM_WALKING_RANGE_DEG if settings.arm_walking_ranges else {}),
-               **(LEG_WALKING_RANGE_DEG if settings.leg_walking_ranges else {})}  # fmt: skip
+    walking = {**(ARM_WALKING_RANGE_DEG if settings.model.arm_walking_ranges else {}),
+               **(LEG_WALKING_RANGE_DEG if settings.model.leg_walking_ranges else {})}  # fmt: skip
     out = []
     for j in body.joints:
         r = np.array(j.range, dtype=float)

@@ -40,12 +40,12 @@ def schedule(settings: PredictionSettings) -> Schedule:
     the one at node 0 (the right heel strike seen from the other foot), and stating it twice
     makes the constraints linearly dependent.
     """
-    ph = GaitPhases(settings.period, settings.double_support)
-    n = settings.nodes
-    h = settings.period / (2 * n)
+    ph = GaitPhases(settings.gait.period, settings.gait.double_support)
+    n = settings.solver.nodes
+    h = settings.gait.period / (2 * n)
     tau = np.arange(n) * h
-    ds = tau <= settings.double_support + 1e-9
-    half = settings.stride_length / 2
+    ds = tau <= settings.gait.double_support + 1e-9
+    half = settings.gait.stride_length / 2
     return Schedule(
         times=ph.heel_strike_r + tau,
         double_support=ds,
@@ -65,10 +65,10 @@ def range_rows(body: BodyModel, settings: PredictionSettings) -> tuple[np.ndarra
     them in between). Off by default: with 4× oversampling the kinematic stage reported local
     infeasibility from the standing start (docs/solver.md).
     """
-    ph = GaitPhases(settings.period, settings.double_support)
-    m = settings.range_oversampling * settings.nodes
-    t = ph.heel_strike_r + np.arange(m) * settings.period / (2 * m)
-    a0, _, _ = layout.coordinate_maps(t, settings.period)
+    ph = GaitPhases(settings.gait.period, settings.gait.double_support)
+    m = settings.model.range_oversampling * settings.solver.nodes
+    t = ph.heel_strike_r + np.arange(m) * settings.gait.period / (2 * m)
+    a0, _, _ = layout.coordinate_maps(t, settings.gait.period)
     ranges = joint_ranges(body, settings)
     R = a0[:, :24, :].reshape(-1, layout.N_X)
     lo = np.tile(np.sin(ranges[:, 0] / 2), m)
@@ -82,10 +82,13 @@ def loop_check_times(settings: PredictionSettings, sch: Schedule) -> np.ndarray:
     The loop holds exactly at the nodes; between nodes it drifted by < 0.3 mm, but in the gap
     between the last double-support node and toe-off by up to 10 mm."""
     ds = np.flatnonzero(sch.double_support)
-    m = settings.loop_checks
+    m = settings.model.loop_checks
     frac = np.arange(1, m + 1) / (m + 1)
     times = [sch.times[k] + f * sch.step for k in ds[:-1] for f in frac]
-    toe_off = sch.times[0] + settings.double_support
-    if settings.loop_check_toe_off and toe_off - sch.times[ds[-1]] > 1e-6 * settings.period:
+    toe_off = sch.times[0] + settings.gait.double_support
+    if (
+        settings.model.loop_check_toe_off
+        and toe_off - sch.times[ds[-1]] > 1e-6 * settings.gait.period
+    ):
         times.append(toe_off)
     return np.array(times)

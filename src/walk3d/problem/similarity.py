@@ -46,7 +46,7 @@ REFERENCE_HEIGHT_M = 1.77
 
 def length_scale(settings: PredictionSettings) -> float:
     """``s = h / h_ref`` by which the subject's lengths exceed the reference subject's."""
-    return settings.height / REFERENCE_HEIGHT_M
+    return settings.gait.height / REFERENCE_HEIGHT_M
 
 
 def reference_problem(settings: PredictionSettings) -> tuple[PredictionSettings, float]:
@@ -58,22 +58,20 @@ def reference_problem(settings: PredictionSettings) -> tuple[PredictionSettings,
     exactly those of the settings given.
     """
     s = length_scale(settings)
-    if settings.mass == REFERENCE_MASS_KG and s == 1.0:
+    g, m = settings.gait, settings.model
+    if g.mass == REFERENCE_MASS_KG and s == 1.0:
         return settings, 1.0
-    update: dict[str, object] = {"mass": REFERENCE_MASS_KG}
+    gait: dict[str, object] = {"mass": REFERENCE_MASS_KG}
+    model: dict[str, object] = {}
     if s != 1.0:
         root = math.sqrt(s)
-        update |= {
-            "height": REFERENCE_HEIGHT_M,
-            "speed": settings.speed / root,
-            "period": settings.period / root,
-            "double_support": settings.double_support / root,
-        }
-        if settings.rollover_ankle is not None:  # the spline is linear in its samples
-            update["rollover_ankle"] = tuple(
-                tuple(c / s for c in p) for p in settings.rollover_ankle
-            )
-    return settings.model_copy(update=update), s
+        gait |= {"height": REFERENCE_HEIGHT_M, "speed": g.speed / root,
+                 "period": g.period / root, "double_support": g.double_support / root}  # fmt: skip
+        if m.rollover_ankle is not None:  # the spline is linear in its samples
+            model["rollover_ankle"] = tuple(tuple(c / s for c in p) for p in m.rollover_ankle)
+    # not revalidated: the scaled descriptors may leave the user-facing ranges
+    groups = {"gait": g.model_copy(update=gait), "model": m.model_copy(update=model)}
+    return settings.model_copy(update=groups), s
 
 
 def subject_x(x_ref: np.ndarray, s: float) -> np.ndarray:

@@ -44,7 +44,7 @@ def _coords(x: np.ndarray, t: np.ndarray, period: float) -> list[tuple]:
 
 def _anchors(settings: PredictionSettings, ph: GaitPhases, t: np.ndarray, root: str, hw: float):
     """Root and other-foot anchors (x, z) for times in one root block."""
-    half = settings.stride_length / 2
+    half = settings.gait.stride_length / 2
     # times run over [0, T] (not wrapped) so that t = T continues the last stance
     p = np.asarray(t, dtype=float)
     if root == "r":
@@ -59,14 +59,14 @@ def _state(body, settings, ph, x, t, root, w0=None, decay=None) -> GaitState:
     hw = float(x[layout.I_HALF_STEP])
     a_root, a_other = _anchors(settings, ph, t, root, hw)
     d = ph.trailing_decay(t) if decay is None else decay
-    return evaluate(body, _coords(x, t, settings.period), root, a_root, a_other, d, w0)
+    return evaluate(body, _coords(x, t, settings.gait.period), root, a_root, a_other, d, w0)
 
 
 def _hs_wrench(body, settings, ph, x, t_hs, root):
     """The trailing foot's load at ``root``'s heel strike (calibrated ratios applied)."""
     st = _state(body, settings, ph, x, np.array([t_hs]), root, w0=None, decay=np.ones(1))
     w0 = tuple(tuple(float(c[0]) for c in v) for v in st.hs_wrench)
-    return apply_ratios(w0, ratios_for(settings), "l" if root == "r" else "r")
+    return apply_ratios(w0, ratios_for(settings.model), "l" if root == "r" else "r")
 
 
 def _ball_quaternion(joint, coords) -> np.ndarray:
@@ -95,7 +95,7 @@ def _contact_residual(body, st: GaitState, x, t, settings, ph, mask) -> float:
     i_other = body.segment_index(f"foot_{other}")
     hw = float(x[layout.I_HALF_STEP])
     _, a_other = _anchors(settings, ph, t, st.root, hw)
-    coords = _coords(x, t, settings.period)
+    coords = _coords(x, t, settings.gait.period)
     s_other = coords[layout.I_FOOT_L if other == "l" else layout.I_FOOT_R]
     q_exp, p_exp = root_foot_triples(body, other, s_other, a_other)
     worst = 0.0
@@ -111,8 +111,8 @@ def evaluate_cycle(
     body: BodyModel, settings: PredictionSettings, x: np.ndarray, n_samples: int = 101
 ) -> CycleEvaluation:
     """Evaluate the cycle at ``n_samples`` equally spaced times from 0 to T (inclusive)."""
-    ph = GaitPhases(settings.period, settings.double_support)
-    T = settings.period
+    ph = GaitPhases(settings.gait.period, settings.gait.double_support)
+    T = settings.gait.period
     t = np.linspace(0.0, T, n_samples)
     right = ph.root_is_right(t)
     blocks = {"r": np.flatnonzero(right), "l": np.flatnonzero(~right)}
@@ -150,7 +150,9 @@ def evaluate_cycle(
         m, w, axes = dof_moment_terms(body, st)
         dof_m[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in m])
         dof_w[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in w])
-        ds = ph.double_support_mask(tb) & (ph.time_since_heel_strike(tb) <= settings.double_support)
+        ds = ph.double_support_mask(tb) & (
+            ph.time_since_heel_strike(tb) <= settings.gait.double_support
+        )
         contact = max(contact, _contact_residual(body, st, x, tb, settings, ph, ds))
     # continuity at the switch of root (left heel strike): pelvis from either root
     t_sw = np.array([ph.heel_strike_l])
@@ -165,7 +167,7 @@ def evaluate_cycle(
     periodic = slice(0, n - 1)  # t = T repeats t = 0
     dt = T / (n - 1)
     crit = {}
-    for name, smooth in (("exact", None), ("smoothed", settings.smoothing)):
+    for name, smooth in (("exact", None), ("smoothed", settings.model.smoothing)):
         tor, en = node_terms(list(dof_m.T), list(dof_w.T), a, b, smooth)
         tor_i = np.array([np.sum(v[periodic]) * dt for v in tor])
         en_i = np.array([np.sum(v[periodic]) * dt for v in en])

@@ -24,14 +24,14 @@ class _Dense:
 
     def __init__(self, settings: PredictionSettings, dynamics: bool):
         # the paper's form: the (smoothed) criterion itself is the objective, no slack variables
-        settings = settings.model_copy(update={"absolute": "smooth"})
+        settings = settings.replace(**{"absolute": "smooth"})
         sv = build_solver(settings)
         self.sv = sv
-        node = nlp.node_function(sv.body, settings, dynamics)
+        node = nlp.node_function(sv.body, settings.model, dynamics)
         self.n = sv.schedule.n
         self.fn = node.map(self.n)
         self.params = nlp.node_params(settings, sv.schedule)
-        self.crit = 0 if settings.criterion == "tor" else 1
+        self.crit = 0 if settings.model.criterion == "tor" else 1
         self.step = sv.schedule.step
         b = sv.bounds if dynamics else sv.bounds_balance
         n_lift = self.n * nlp.N_Y
@@ -46,9 +46,9 @@ class _Dense:
         self.uby = b.ubz[layout.N_X : layout.N_X + n_lift]
         self.lift = sv.lift.reshape(-1, layout.N_X)
         t_loop = loop_check_times(settings, sv.schedule)
-        self.loop_map = layout.coordinate_maps(t_loop, settings.period)[0]  # (m, 26, N_X)
-        self.loop_fn = nlp.loop_function(sv.body, settings).map(max(t_loop.size, 1))
-        self.anchor = np.full((1, t_loop.size), -settings.stride_length / 2)
+        self.loop_map = layout.coordinate_maps(t_loop, settings.gait.period)[0]  # (m, 26, N_X)
+        self.loop_fn = nlp.loop_function(sv.body, settings.model).map(max(t_loop.size, 1))
+        self.anchor = np.full((1, t_loop.size), -settings.gait.stride_length / 2)
         self.evals = 0
 
     def _loop(self, x: np.ndarray) -> np.ndarray:
@@ -102,7 +102,7 @@ def slsqp_solve(
     after early exits (:data:`RESTART_STATUS`) until ``time_limit_s``."""
     t0 = time.perf_counter()
     settings, scale = similarity.reference_problem(settings)  # as the default solver does
-    sv = build_solver(settings.model_copy(update={"absolute": "smooth"}))
+    sv = build_solver(settings.replace(**{"absolute": "smooth"}))
     z0 = initial_guess(sv, seed)
     x = np.concatenate([z0[: layout.N_X], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]])
     status, iters, stages = "not run", 0, []

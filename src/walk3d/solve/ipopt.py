@@ -1,16 +1,9 @@
-"""Solving the prediction NLP with CasADi + IPOPT (exact Hessian), in stages.
+"""Solving the prediction NLP with CasADi + IPOPT (exact Hessian): the stages of
+:mod:`walk3d.solve.plan`, run by :func:`walk3d.solve.plan.run_plan` on IPOPT.
 
-0. *posture* (``settings.posture_stage``: by default only as a fallback when the balance stage
-   straight from standing has not converged): every kinematic constraint (closed
-   double-support loop, stride V·T, swing clearance, foot flat, ranges), minimizing joint
-   rates, accelerations and coordinates;
-1. *balance*: the same, plus the total ground reaction kept physical (Fy ≥ 0, friction, centre
-   of pressure under the feet) — still no joint moments;
-2. *full*: the criterion under all constraints, from stage 1.
-
-All start from the paper's initial guess: upright standing (all coefficients zero) plus uniform
-random numbers drawn from the seed. No measured data enters. The solvers themselves are built
-in :mod:`walk3d.solve.solver`; docs/solver.md has the measurements.
+Every attempt starts from the paper's initial guess: upright standing (all coefficients zero)
+plus uniform random numbers drawn from the seed. No measured data enters. The solvers
+themselves are built in :mod:`walk3d.solve.solver`; docs/solver.md has the measurements.
 """
 
 from __future__ import annotations
@@ -24,14 +17,15 @@ import numpy as np
 
 from walk3d.problem import layout, nlp, similarity
 from walk3d.problem.settings import PredictionSettings
+from walk3d.solve.plan import END, SUCCESS, Stage, run_plan
 from walk3d.solve.progress import Listener, StopRule, bound_violation
 from walk3d.solve.solver import Solver, build_solver
 
 __all__ = ["IPOPT_SUCCESS", "SolveOutcome", "Solver", "build_solver", "full_stage_start",
            "initial_guess", "solve"]  # fmt: skip
 
-IPOPT_SUCCESS = {"Solve_Succeeded", "Solved_To_Acceptable_Level"}
-"""Return statuses counted as converged (IPOPT's, and sqpmethod's ``Solve_Succeeded``)."""
+IPOPT_SUCCESS = SUCCESS
+"""Return statuses counted as converged (:data:`walk3d.solve.plan.SUCCESS`)."""
 
 
 @dataclass
@@ -50,7 +44,7 @@ class SolveOutcome:
     stages: list[dict] = field(default_factory=list)
     solver: str = "ipopt"
     attempts: int = 1
-    """Standing starts tried (1 + restarts used; ``settings.restarts``)."""
+    """Standing starts tried (1 + restarts used; ``settings.solver.restarts``)."""
     max_constraint_violation: float = float("nan")
     """Largest violation of the final stage's rows and bounds, in the solved NLP's units (those
     of the reference subject: lengths differ from the subject's by the factor h / 1.77 m)."""
@@ -61,14 +55,16 @@ class SolveOutcome:
 def initial_guess(solver: Solver, seed: int, attempt: int = 0) -> np.ndarray:
     """Upright standing plus uniform noise: the NLP start vector ``z`` for ``seed``.
 
-    ``attempt`` k ≥ 1 (a restart, ``settings.restarts``) draws the noise from the seed's k-th
+    ``attempt`` k ≥ 1 (a restart, ``settings.solver.restarts``) draws the noise from the seed's k-th
     independent stream, ``numpy.random.default_rng([seed, k])``, so every attempt of every
     start is reproducible from its seed and differs from the other seeds' starts.
     """
     s = solver.settings
     rng = np.random.default_rng(seed if attempt == 0 else [seed, attempt])
     x0 = np.zeros(layout.N_X)
-    x0[: layout.I_HALF_STEP] = rng.uniform(-s.perturbation, s.perturbation, layout.I_HALF_STEP)
+    x0[: layout.I_HALF_STEP] = rng.uniform(
+        -s.solver.perturbation, s.solver.perturbation, layout.I_HALF_STEP
+    )
     x0[layout.fixed_zero_mask()] = 0.0
     x0[layout.I_HALF_STEP] = 0.08  # m, at the reference stature (solve() solves that problem)
     return _z_from_x(solver, x0, np.array([0.0, 1.0, 0.0, 0.0, 0.0, 0.0]))
@@ -107,7 +103,7 @@ def full_stage_start(solver: Solver, z: np.ndarray) -> np.ndarray:
         z[i_w0:i_t] = node_rows(z)[0, rows["hs_wrench"]]
     node = node_rows(z)
     u = np.maximum(-node[:, rows["slack_pos"]], -node[:, rows["slack_neg"]])
-    if solver.settings.absolute == "slack":
+    if solver.settings.model.absolute == "slack":
         z[i_t:] = (u + SLACK_MARGIN).ravel()
     return z
 
@@ -117,13 +113,14 @@ def _run(
     solver: Solver,
     z0: np.ndarray,
     name: str,
+    kind: str,
     listener: Listener | None = None,
     stop: StopRule | None = None,
-):
-    """Run stage ``name``'s solver ``fn`` from ``z0`` within the stage's bounds."""
-    b = solver.stage_bounds(name)
+) -> tuple[np.ndarray, dict]:
+    """Run the stage solver ``fn`` of NLP ``kind`` from ``z0``; returns its end and record."""
+    b = solver.stage_bounds(kind)
     t0 = time.perf_counter()
-    with solver.reporter(name).listening(listener, b.lbg, b.ubg, stop):
+    with solver.reporters[kind].listening(listener, b.lbg, b.ubg, stop):
         sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
     stats = fn.stats()
     zz = np.array(sol["x"]).ravel()
@@ -137,7 +134,7 @@ def _run(
         "wall_time_s": time.perf_counter() - t0,
         "objective": float(sol["f"]),
     }
-    return np.array(sol["x"]).ravel(), info
+    return zz, info
 
 
 def solve(
@@ -148,118 +145,50 @@ def solve(
 ) -> SolveOutcome:
     """Predict one gait cycle from the standing start of ``seed``.
 
-    ``converged`` is True only when the final (full) stage reports success. A start whose final
-    stage, or whose balance stage (see ``attempt``), did not converge is tried again from a new
-    standing start (the seed's next noise stream, :func:`initial_guess`), at most
-    ``settings.restarts`` times; each stage's record carries its ``attempt``. Any mass and stature
-    is solved as the reference subject's problem (:mod:`walk3d.problem.similarity`) and ``x`` mapped
-    back. ``on_stage`` receives progress messages: each stage as it starts, then, every IPOPT
-    iteration, the stage's message with its iteration, objective and largest constraint
-    violation."""
+    Runs the solver's plan (:mod:`walk3d.solve.plan`); ``converged`` is True only when the
+    final stage reports success. Any mass and stature is solved as the reference subject's
+    problem (:mod:`walk3d.problem.similarity`) and ``x`` mapped back. ``on_stage`` receives
+    progress messages: each stage as it starts, then, every IPOPT iteration, the stage's
+    label with its iteration, objective and largest constraint violation."""
     note = on_stage or (lambda _msg: None)
-
-    def progress(label: str) -> Listener | None:
-        """Per-iteration messages of one stage, on one terminal line (< 72 characters)."""
-        if on_stage is None:
-            return None
-        return lambda it, f, viol: on_stage(
-            f"{label}: iteration {it}, objective {f:.4g}, infeasibility {viol:.0e}"
-        )
-
     note("building the model")
-    # every mass and stature is solved as the reference subject's problem (same node
-    # functions, cache entry and compiled derivatives); x is mapped back at the end
     ref, scale = similarity.reference_problem(settings)
     solver = build_solver(ref, method)
     t0 = time.perf_counter()
-    stages: list[dict] = []
+    ends: dict[str, np.ndarray] = {}  # the attempt's standing start and the last stage's end
 
-    checks = ref.progress_checks()
-
-    def stop_rule(name: str) -> StopRule | None:
-        """The direct balance stage stops early if it is still far from feasible."""
-        if name != "balance_direct" or not checks:
-            return None
-        return lambda it, _f, viol: it in checks and viol > checks[it]
-
-    def run(name: str, z0: np.ndarray, label: str) -> tuple[np.ndarray, dict]:
-        z, info = _run(solver.stage(name), solver, z0, name, progress(label), stop_rule(name))
-        stages.append(info)
-        return z, info
-
-    def through_posture(z_stand: np.ndarray) -> tuple[np.ndarray, dict]:
-        note("stage 0: walking posture (geometry only)")
-        z, _ = run("posture", z_stand, "stage 0 (posture)")
-        note("stage 1/2: balance, from the walking posture")
-        return run("balance", z, "stage 1/2 (balance)")
-
-    crit = f"C_{ref.criterion}"
-
-    def full(z: np.ndarray) -> tuple[np.ndarray, dict]:
-        note(f"stage 2/2: minimizing {crit}")
-        return run("full", full_stage_start(solver, z), f"stage 2/2 ({crit})")
-
-    def attempt(z_stand: np.ndarray, last: bool) -> tuple[np.ndarray, dict]:
-        """The stages from one standing start.
-
-        A balance stage that did not converge (after the posture stage, or from standing
-        without the fallback) ends the attempt while a restart is left. The full stage after
-        such a stage seldom converged (seed 1 in session 9, seed 11's restart in session 10);
-        the others ran to their 400-iteration limit, about a minute, before the restart
-        (docs/solver.md). On the last attempt the full stage still runs.
-        """
-        fallback = ref.posture_stage == "fallback"
-
-        def hopeless(info: dict) -> bool:
-            if last or info["status"] in IPOPT_SUCCESS:
-                return False
-            note("the balance stage did not converge: restarting instead of the full stage")
-            return True
-
-        if ref.posture_stage == "first":
-            z, info1 = through_posture(z_stand)
+    def run_stage(stage: Stage, attempt: int) -> dict:
+        if stage is solver.plan.first:
+            ends["standing"] = initial_guess(solver, seed, attempt)
+        if stage.start == "criterion":
+            z0 = full_stage_start(solver, ends["previous"])
         else:
-            name = "balance_direct" if fallback else "balance"
-            solver.stage(name)
-            solver.prepare("full")  # built while the balance stage solves
-            note("stage 1/2: balance (walking posture, total reaction under the feet)")
-            z, info1 = run(name, z_stand, "stage 1/2 (balance)")
-        retry = fallback  # one retry through the posture stage, unless the fallback used it
-        if fallback and info1["status"] not in IPOPT_SUCCESS:
-            z, info1 = through_posture(z_stand)
-            retry = False
-        if hopeless(info1):
-            return z, info1
-        z, info2 = full(z)
-        if retry and info2["status"] not in IPOPT_SUCCESS:
-            note("the full stage did not converge: retrying from standing through the posture "
-                 "stage")  # fmt: skip
-            z, info1 = through_posture(z_stand)
-            if hopeless(info1):
-                return z, info1
-            z, info2 = full(z)
-        return z, info2
+            z0 = ends[stage.start]
+        fn = solver.stage(stage)
+        if stage.on_success != END:
+            solver.prepare(stage.on_success)  # built while this stage solves
+        note(stage.title)
+        listener = None
+        if on_stage is not None:
+            listener = lambda it, f, viol: on_stage(  # noqa: E731
+                f"{stage.label}: iteration {it}, objective {f:.4g}, infeasibility {viol:.0e}"
+            )
+        stop = (lambda it, _f, viol: stage.stops(it, viol)) if stage.checks else None
+        ends["previous"], record = _run(fn, solver, z0, stage.name, stage.problem, listener, stop)
+        return record
 
-    tries = ref.restarts + 1
-    for k in range(tries):
-        if k:
-            note(f"not converged: restarting from a new standing start ({k + 1} of {tries})")
-        first = len(stages)
-        z, info2 = attempt(initial_guess(solver, seed, k), last=k == tries - 1)
-        for st in stages[first:]:
-            st["attempt"] = k
-        if info2["status"] in IPOPT_SUCCESS:
-            break
+    result = run_plan(solver.plan, ref.solver.restarts, run_stage, note)
+    last = result.records[-1]
     return SolveOutcome(
-        x=similarity.subject_x(z[: layout.N_X], scale),
-        z=z,
-        converged=info2["status"] in IPOPT_SUCCESS,
-        status=info2["status"],
-        iterations=sum(st["iterations"] for st in stages),
+        x=similarity.subject_x(ends["previous"][: layout.N_X], scale),
+        z=ends["previous"],
+        converged=result.converged,
+        status=last["status"],
+        iterations=sum(st["iterations"] for st in result.records),
         wall_time_s=time.perf_counter() - t0,
-        stages=stages,
+        stages=result.records,
         solver=method,
-        attempts=k + 1,
-        max_constraint_violation=info2["max_constraint_violation"],
+        attempts=result.attempts,
+        max_constraint_violation=last["max_constraint_violation"],
         compiled_derivatives=sorted(solver.compiled),
     )

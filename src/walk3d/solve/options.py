@@ -1,5 +1,5 @@
-"""The solvers' options: IPOPT's (with the linear solver's) and CasADi ``sqpmethod``'s, each
-stage's iteration limit, and the check that an HSL linear solver can be loaded."""
+"""The solvers' options: IPOPT's (with the linear solver's) and CasADi ``sqpmethod``'s, and the
+check that an HSL linear solver can be loaded."""
 
 from __future__ import annotations
 
@@ -8,32 +8,23 @@ import casadi as ca
 from walk3d.io import blas
 from walk3d.problem.settings import PredictionSettings
 
-__all__ = ["ipopt_options", "linear_solver_error", "sqp_options", "stage_max_iter"]
-
-
-def stage_max_iter(settings: PredictionSettings, name: str) -> int:
-    """IPOPT's iteration limit for stage ``name``: ``max_iter``, or the stage's own limit (at
-    most ``max_iter``, except ``balance_max_iter``, which a stage test relies on exceeding it)."""
-    own = {"balance_direct": settings.balance_max_iter,
-           "balance": min(settings.max_iter, settings.posture_balance_max_iter),
-           "full": min(settings.max_iter, settings.full_max_iter)}  # fmt: skip
-    return own.get(name, settings.max_iter)
+__all__ = ["ipopt_options", "linear_solver_error", "sqp_options"]
 
 
 def ipopt_options(settings: PredictionSettings) -> dict:
-    """IPOPT's options for ``settings`` (every stage; :func:`stage_max_iter` sets each limit)."""
+    """IPOPT's options for ``settings`` (every stage; each stage sets its own ``max_iter``)."""
     opts = {
         "print_time": False,
         "ipopt.print_level": 0,
         "ipopt.sb": "yes",
-        "ipopt.max_iter": settings.max_iter,
-        "ipopt.tol": settings.tol,
+        "ipopt.max_iter": settings.solver.max_iter,
+        "ipopt.tol": settings.solver.tol,
         "ipopt.mu_strategy": "adaptive",
     }
-    if settings.linear_solver != "mumps":
-        opts["ipopt.linear_solver"] = settings.linear_solver
-        if settings.hsl_library:
-            opts["ipopt.hsllib"] = settings.hsl_library
+    if settings.solver.linear_solver != "mumps":
+        opts["ipopt.linear_solver"] = settings.solver.linear_solver
+        if settings.solver.hsl_library:
+            opts["ipopt.hsllib"] = settings.solver.hsl_library
         return opts
     return opts | {
         "ipopt.linear_solver": "mumps",
@@ -54,9 +45,9 @@ def sqp_options(settings: PredictionSettings) -> dict:
     return {
         "qpsol": "qrqp",
         "qpsol_options": {"print_iter": False, "print_header": False, "error_on_fail": False},
-        "max_iter": settings.max_iter,
-        "tol_pr": settings.tol,
-        "tol_du": settings.tol,
+        "max_iter": settings.solver.max_iter,
+        "tol_pr": settings.solver.tol,
+        "tol_du": settings.solver.tol,
         "print_header": False,
         "print_iteration": False,
         "print_status": False,
@@ -66,12 +57,12 @@ def sqp_options(settings: PredictionSettings) -> dict:
 
 
 def linear_solver_error(settings: PredictionSettings) -> str | None:
-    """None if IPOPT can use ``settings.linear_solver``; otherwise why not, in one line.
+    """None if IPOPT can use ``settings.solver.linear_solver``; otherwise why not, in one line.
 
     An HSL solver is loaded from a shared library at run time, and IPOPT reports a missing or
     unusable one only as ``Invalid_Option`` when a solve starts; a two-variable problem finds
     that out before a long solve or campaign does."""
-    if settings.linear_solver == "mumps":
+    if settings.solver.linear_solver == "mumps":
         return None
     blas.activate()  # before IPOPT is first loaded (walk3d.io.blas)
     x = ca.SX.sym("x", 2)
@@ -80,7 +71,7 @@ def linear_solver_error(settings: PredictionSettings) -> str | None:
     probe(x0=[0.0, 0.0], lbg=0.0, ubg=1.0)
     if probe.stats()["success"]:
         return None
-    where = settings.hsl_library or "IPOPT's default library name on the library path"
-    return (f"IPOPT could not use the HSL solver {settings.linear_solver} from {where} "
+    where = settings.solver.hsl_library or "IPOPT's default library name on the library path"
+    return (f"IPOPT could not use the HSL solver {settings.solver.linear_solver} from {where} "
             f"({probe.stats()['return_status']}); give the HSL library's path "
             "(libhsl.so or libcoinhsl.so) or use the default solver, mumps")  # fmt: skip

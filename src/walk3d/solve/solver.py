@@ -24,37 +24,28 @@ from walk3d.io import blas, compiled, model_cache
 from walk3d.problem import derivatives, nlp, similarity
 from walk3d.problem.bounds import Bounds, bounded_rows, bounds
 from walk3d.problem.schedule import Schedule, schedule
-from walk3d.problem.settings import PredictionSettings, body_for
-from walk3d.solve.options import ipopt_options, sqp_options, stage_max_iter
+from walk3d.problem.settings import ModelSettings, PredictionSettings, body_for
+from walk3d.solve.options import ipopt_options, sqp_options
+from walk3d.solve.plan import Plan, Stage, default_plan
 from walk3d.solve.progress import IterationReporter
-
-STAGE_PROBLEMS = {"posture": "posture", "balance": "balance", "balance_direct": "balance",
-                  "full": "full"}  # fmt: skip
-"""Solver stages and the NLP (:data:`walk3d.problem.nlp.STAGES`) each solves; ``balance_direct``
-is the balance NLP straight from standing, limited to ``balance_max_iter`` iterations."""
-
 
 COMPILED_NODES = {"balance": nlp._node_name(False, True, False),
                   "full": nlp._node_name(True, True, False)}  # fmt: skip
 """NLPs whose mapped node derivatives can be compiled to C (:func:`compile_solver`), and the
-node function of each. The posture NLP's derivatives are small (34 thousand instructions
-against 1.5-1.7 million) and node 0 is one node of ``nodes``: both stay in CasADi's VM."""
+node function of each. The posture NLP's derivatives are small and its node 0 is one node of
+``nodes``: both stay in CasADi's VM."""
 CHUNKS = 8
 """Column blocks per compiled Jacobian or Hessian (:func:`derivatives.derivative_chunks`)."""
 
-_LOCK_KEYS = (*STAGE_PROBLEMS, *(f"nlp:{kind}" for kind in nlp.STAGES), "constraints")
-"""What a :class:`Solver` builds lazily, each under its own lock: stage solvers, NLPs, ``g``."""
 
-
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class Solver:
     """The NLP of one settings: bounds and lifting maps at once, stage solvers on first use.
 
-    Building a stage's exact derivatives (per-node Jacobian and Hessian, about 3-4 s per stage
-    at 20 nodes) is most of a build, so a stage is built when it is first asked for
-    (:meth:`stage`, or the attributes ``posture``, ``balance``, ``balance_direct``, ``full``),
-    and :meth:`prepare` builds stages in a background thread while another stage solves
-    (CasADi releases the GIL). The posture stage, a fallback, is then never built unless used.
+    Building a stage's exact derivatives is most of a build, so a stage solver is built when
+    first asked for (:meth:`stage`), and :meth:`prepare` builds stages in a background thread
+    while another stage solves (CasADi releases the GIL). Stages of one NLP and iteration limit
+    share a solver; a stage never run is never built.
     """
 
     settings: PredictionSettings
@@ -67,6 +58,8 @@ class Solver:
     bounds_posture: Bounds
     lift: np.ndarray
     schedule: Schedule
+    plan: Plan
+    """The stages a solve runs (:func:`walk3d.solve.plan.default_plan`)."""
     build_time_s: float
     """Time to set up the solver without its stages (model functions, bounds)."""
     from_cache: bool = False
@@ -75,15 +68,14 @@ class Solver:
     """Compiled ``(jac, grad, hess)`` of the mapped node function, by NLP kind (those found in
     the cache at build time; :func:`compile_solver` makes them)."""
     stage_build_s: dict[str, float] = field(default_factory=dict, repr=False)
-    """Seconds spent building each NLP and stage solver so far, by name."""
+    """Seconds spent building each NLP (``nlp:<kind>``) and stage solver (``<kind>:<limit>``)."""
     stage_rows: dict[str, np.ndarray] = field(init=False, repr=False)
     """By NLP kind, the constraint rows its stage solvers see (:func:`bounded_rows`)."""
     reporters: dict[str, IterationReporter] = field(init=False, repr=False)
     """IPOPT's per-iteration callbacks by NLP kind, shared by its stages (:mod:`.progress`)."""
     _built: dict[str, object] = field(default_factory=dict, repr=False)
-    _locks: dict[str, threading.Lock] = field(
-        default_factory=lambda: {k: threading.Lock() for k in _LOCK_KEYS}, repr=False
-    )
+    _locks: dict[str, threading.Lock] = field(default_factory=dict, repr=False)
+    _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
 
     def __post_init__(self) -> None:
         rows = {kind: bounded_rows(self.nlp_bounds(kind)) for kind in nlp.STAGES}
@@ -93,26 +85,25 @@ class Solver:
                      for kind, r in rows.items()}  # fmt: skip
         object.__setattr__(self, "reporters", reporters)
 
+    def _lock_for(self, key: str) -> threading.Lock:
+        with self._lock:
+            return self._locks.setdefault(key, threading.Lock())
+
     def nlp_bounds(self, kind: str) -> Bounds:
         """The bounds of NLP ``kind`` (posture, balance, full) on all its rows."""
         return {"posture": self.bounds_posture, "balance": self.bounds_balance,
                 "full": self.bounds}[kind]  # fmt: skip
 
-    def stage_bounds(self, name: str) -> Bounds:
-        """The bounds that stage ``name``'s solver takes: those of its NLP, on the rows it
-        keeps (:attr:`stage_rows`); ``g`` in the stage's solution has these rows."""
-        kind = STAGE_PROBLEMS[name]
+    def stage_bounds(self, kind: str) -> Bounds:
+        """The bounds that the stage solvers of NLP ``kind`` take: those of the NLP, on the rows
+        they keep (:attr:`stage_rows`); ``g`` in a stage's solution has these rows."""
         b, rows = self.nlp_bounds(kind), self.stage_rows[kind]
         return Bounds(b.lbz, b.ubz, b.lbg[rows], b.ubg[rows])
-
-    def reporter(self, name: str) -> IterationReporter:
-        """The per-iteration callback of stage ``name``'s solver (:mod:`.progress`)."""
-        return self.reporters[STAGE_PROBLEMS[name]]
 
     def _problem(self, kind: str) -> dict:
         """The NLP dict of ``kind`` (posture, balance, full) with its derivative functions."""
         key = f"nlp:{kind}"
-        with self._locks[key]:
+        with self._lock_for(key):
             if key not in self._built:
                 t0 = time.perf_counter()
                 dynamics, balance = nlp.STAGES[kind]
@@ -123,97 +114,73 @@ class Solver:
                 self.stage_build_s[key] = time.perf_counter() - t0
             return self._built[key]  # type: ignore[return-value]
 
-    def stage(self, name: str) -> ca.Function:
-        """The solver of stage ``name`` (:data:`STAGE_PROBLEMS`), built on first use."""
-        with self._locks[name]:
-            if name not in self._built:
-                kind = STAGE_PROBLEMS[name]
-                prob = derivatives.select_rows(self._problem(kind), self.stage_rows[kind])
+    def _stage(self, stage: Stage | str) -> Stage:
+        return self.plan[stage] if isinstance(stage, str) else stage
+
+    def stage(self, stage: Stage | str) -> ca.Function:
+        """The solver of ``stage`` (a :class:`Stage` or its key in :attr:`plan`), built on first
+        use and shared by the stages of the same NLP and iteration limit."""
+        st = self._stage(stage)
+        key = f"{st.problem}:{st.max_iter}"
+        with self._lock_for(key):
+            if key not in self._built:
+                prob = derivatives.select_rows(self._problem(st.problem),
+                                               self.stage_rows[st.problem])  # fmt: skip
                 t0 = time.perf_counter()
                 if self.method == "ipopt":
-                    opts = ipopt_options(self.settings)
-                    opts["ipopt.max_iter"] = stage_max_iter(self.settings, name)
+                    opts = ipopt_options(self.settings) | {"ipopt.max_iter": st.max_iter}
                     plugin = "ipopt"
                 else:
                     opts, plugin = sqp_options(self.settings), "sqpmethod"
-                opts["iteration_callback"] = self.reporter(name)
-                fn = ca.nlpsol(f"walk3d_{name}", plugin, *_with_derivatives(prob, opts, plugin))
-                self._built[name] = fn
-                self.stage_build_s[name] = time.perf_counter() - t0
-            return self._built[name]  # type: ignore[return-value]
+                opts["iteration_callback"] = self.reporters[st.problem]
+                fn = ca.nlpsol(f"walk3d_{st.key}", plugin, *_with_derivatives(prob, opts, plugin))
+                self._built[key] = fn
+                self.stage_build_s[key] = time.perf_counter() - t0
+            return self._built[key]  # type: ignore[return-value]
 
-    def prepare(self, *names: str) -> threading.Thread:
-        """Build the stages ``names`` in a background thread (started and returned)."""
-        unknown = set(names) - set(STAGE_PROBLEMS)
-        if unknown:
-            raise ValueError(f"unknown stages {sorted(unknown)}; known: {list(STAGE_PROBLEMS)}")
+    def prepare(self, *stages: Stage | str) -> threading.Thread:
+        """Build ``stages`` (stages or plan keys) in a background thread (started, returned)."""
+        try:
+            todo = [self._stage(s) for s in stages]
+        except KeyError as exc:
+            raise ValueError(f"unknown stages: {exc.args[0]}") from None
 
         def work() -> None:
-            for name in names:
-                self.stage(name)
+            for st in todo:
+                self.stage(st)
 
         thread = threading.Thread(target=work, name="walk3d-build", daemon=True)
         thread.start()
         return thread
 
     @property
-    def posture(self) -> ca.Function:
-        return self.stage("posture")
-
-    @property
-    def balance(self) -> ca.Function:
-        return self.stage("balance")
-
-    @property
-    def balance_direct(self) -> ca.Function:
-        return self.stage("balance_direct")
-
-    @property
-    def full(self) -> ca.Function:
-        return self.stage("full")
-
-    @property
     def constraints(self) -> ca.Function:
         """``g(z)`` of the full stage (used to start it consistently), built once."""
-        with self._locks["constraints"]:
+        with self._lock_for("constraints"):
             if "constraints" not in self._built:
                 prob = self._problem("full")
                 self._built["constraints"] = ca.Function("walk3d_g", [prob["x"]], [prob["g"]])
             return self._built["constraints"]  # type: ignore[return-value]
 
 
-RUNTIME_FIELDS = frozenset({
-    "nodes", "threads", "derivatives", "range_oversampling", "loop_checks", "loop_check_toe_off",
-    "loop_check_tolerance", "posture_stage", "balance_max_iter", "posture_balance_max_iter",
-    "full_max_iter", "linear_solver", "hsl_library",
-    "balance_progress_check",
-    "perturbation", "restarts", "max_iter", "tol",
-    "speed", "period", "double_support",
-})  # fmt: skip
-"""Settings that :func:`walk3d.problem.nlp.model_functions` does not read (they shape the NLP
-around the node functions, the solver options or the start), so they are left out of the
-cache key: settings differing only in these share an entry. The gait descriptors V, T and Td
-are among them: they reach the node functions as node parameters
-(:func:`walk3d.problem.nlp.node_params`), so one entry, and one compiled set of derivatives,
-serves every descriptor. A test records the fields that ``model_functions`` reads
-(``tests/solve/test_solve_cache.py``)."""
-
-
-def _model_key(body: BodyModel, settings: PredictionSettings) -> str:
-    return model_cache.model_key(settings.model_dump(exclude=set(RUNTIME_FIELDS)), body)
+def _model_key(body: BodyModel, model: ModelSettings) -> str:
+    """The model cache key: the body and the model settings, all that
+    :func:`walk3d.problem.nlp.model_functions` receives. The gait descriptors reach the node
+    functions as node parameters, so one entry serves every V, T and Td of a body."""
+    return model_cache.model_key(model.model_dump(), body)
 
 
 def _model_functions(
-    body: BodyModel, settings: PredictionSettings, use_cache: bool
+    body: BodyModel, model: ModelSettings, use_cache: bool
 ) -> tuple[dict[str, ca.Function], bool]:
     """The model's SX functions, from the disk cache when possible: ``(functions, from_cache)``."""
     if not use_cache:
-        return nlp.model_functions(body, settings), False
-    key = _model_key(body, settings)
+        return nlp.model_functions(body, model), False
+    key = _model_key(body, model)
     functions = model_cache.read_functions(key)
     if functions is not None:
         return functions, True
-    functions = nlp.model_functions(body, settings)
+    functions = nlp.model_functions(body, model)
     model_cache.write_functions(key, functions)
     return functions, False
 
@@ -236,7 +203,7 @@ def _chunk_names(kind: str) -> list[str]:
 
 
 def _crit(settings: PredictionSettings) -> int:
-    return 0 if settings.criterion == "tor" else 1  # as in nlp.build_nlp
+    return 0 if settings.model.criterion == "tor" else 1  # as in nlp.build_nlp
 
 
 def _chunk_functions(settings: PredictionSettings, fns: dict[str, ca.Function],
@@ -268,15 +235,19 @@ def _load_compiled(
 def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool = True) -> Solver:
     t0 = time.perf_counter()
     body = body_for(settings)
-    fns, hit = _model_functions(body, settings, use_cache)
+    fns, hit = _model_functions(body, settings.model, use_cache)
     sch = schedule(settings)
     lift = nlp.lifting_maps(settings, sch)
     # only IPOPT takes the structured derivatives (_with_derivatives): sqp needs no libraries
     comp = _load_compiled(settings, fns) if use_cache and method == "ipopt" else {}
-    return Solver(settings, body, method, fns, bounds(body, settings, sch),
-                  bounds(body, settings, sch, dynamics=False),
-                  bounds(body, settings, sch, dynamics=False, balance=False), lift, sch,
-                  time.perf_counter() - t0, hit, comp)  # fmt: skip
+    return Solver(
+        settings=settings, body=body, method=method, functions=fns,
+        bounds=bounds(body, settings, sch),
+        bounds_balance=bounds(body, settings, sch, dynamics=False),
+        bounds_posture=bounds(body, settings, sch, dynamics=False, balance=False),
+        lift=lift, schedule=sch, plan=default_plan(settings.solver, settings.model.criterion),
+        build_time_s=time.perf_counter() - t0, from_cache=hit, compiled=comp,
+    )  # fmt: skip
 
 
 def _with_derivatives(prob: dict, opts: dict, plugin: str = "ipopt") -> tuple[dict, dict]:
@@ -308,7 +279,7 @@ def compiled_status(settings: PredictionSettings) -> dict:
     solves of these settings (those of the reference subject, :mod:`walk3d.problem.similarity`,
     so the same for every mass and stature)."""
     settings = similarity.reference_problem(settings)[0]
-    fns, _ = _model_functions(body_for(settings), settings, True)
+    fns, _ = _model_functions(body_for(settings), settings.model, True)
     kinds = [k for k in COMPILED_NODES if compiled.load_functions(
         _compiled_key(fns, settings, k), _chunk_names(k)) is not None]  # fmt: skip
     return {"compiled": kinds, "missing": 2 * CHUNKS * (len(COMPILED_NODES) - len(kinds))}
@@ -330,7 +301,7 @@ def compile_solver(
     t0 = time.perf_counter()
     settings = similarity.reference_problem(settings)[0]
     body = body_for(settings)
-    fns, _ = _model_functions(body, settings, True)
+    fns, _ = _model_functions(body, settings.model, True)
     done: list[str] = []
 
     def report(name: str, i: int, n: int) -> None:

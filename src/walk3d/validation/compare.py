@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from walk3d.io.events import detect_contacts
+from walk3d.problem.settings import recorded_settings
 from walk3d.results.prediction import Prediction
 from walk3d.validation.quantities import QUANTITIES, Quantity, prediction_series
 from walk3d.validation.reference import N_PERCENT, Reference
@@ -77,9 +78,8 @@ def _pearson(a: np.ndarray, b: np.ndarray) -> float:
 
 def cycle_timing(pred: Prediction) -> tuple[float, float]:
     """``(T, t_hs)``: the period and the right heel-strike time of a prediction (module doc)."""
-    inputs = pred.summary.get("inputs", {}) if isinstance(pred.summary, dict) else {}
-    period = inputs.get("period") if isinstance(inputs, dict) else None
-    td = inputs.get("double_support") if isinstance(inputs, dict) else None
+    inputs = recorded_settings(pred.summary) if isinstance(pred.summary, dict) else {}
+    period, td = inputs.get("period"), inputs.get("double_support")
     if isinstance(period, (int, float)) and isinstance(td, (int, float)) and period > 0:
         return float(period), float(period) / 2 - float(td)
     t = pred.time

@@ -245,11 +245,12 @@ def measured_prediction(fit: GaitFit, source: str) -> Prediction:
     """A :class:`Prediction` of the fitted measured gait (no optimization), e.g. to compare
     walk3d's inverse dynamics on measured motion with the measured loads."""
     ev = fit.evaluation
+    recorded = fit.settings.model_dump()
     summary = {
         "walk3d_version": __version__,
         "kind": "measured gait fitted with walk3d's Fourier series (no optimization)",
         "source": source,
-        "inputs": fit.settings.model_dump() | {"criterion": "measured"},
+        "settings": recorded | {"model": recorded["model"] | {"criterion": "measured"}},
         "converged": True,
         "status": "not optimized",
         "objective": ev.criteria,
@@ -258,7 +259,7 @@ def measured_prediction(fit: GaitFit, source: str) -> Prediction:
         "double_support_contact_residual_m": ev.contact_residual_m,
         "root_switch_continuity_residual_m": ev.continuity_residual_m,
         "stride_length_m": ev.stride_length_m,
-        "stride_length_target_m": fit.settings.stride_length,
+        "stride_length_target_m": fit.settings.gait.stride_length,
         "step_width_m": ev.step_width_m,
     }
     return make_prediction(ev.prediction_arrays, summary)

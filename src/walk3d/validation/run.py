@@ -30,6 +30,7 @@ from walk3d.body.model import build_body
 from walk3d.io.cycle_table import read_cycle_table
 from walk3d.io.storage import read_storage
 from walk3d.io.tables import write_csv_table
+from walk3d.problem.settings import recorded_settings
 from walk3d.results.prediction import Prediction
 from walk3d.validation.compare import Comparison, compare, cycle_timing
 from walk3d.validation.criteria import criteria_from_reference, table3_rows
@@ -130,7 +131,7 @@ def table2_rows(comparisons: Sequence[Comparison]) -> tuple[tuple[str, ...], lis
 
 
 def _subject(pred: Prediction) -> tuple[float, float, str, list[str]]:
-    inputs = pred.summary.get("inputs", {}) if isinstance(pred.summary, dict) else {}
+    inputs = recorded_settings(pred.summary) if isinstance(pred.summary, dict) else {}
     notes = []
     mass = float(inputs.get("mass", pred.body_mass))
     height = inputs.get("height")
@@ -228,8 +229,8 @@ def _measured_fit(body, trials, tables, table_paths, pred, notes):
             return fit, f"IK of {t.name}"
     if tables:
         period, t_hs = cycle_timing(pred)
-        inputs = pred.summary.get("inputs", {})
-        speed = float(inputs.get("speed", 1.3)) if isinstance(inputs, dict) else 1.3
+        inputs = recorded_settings(pred.summary) if isinstance(pred.summary, dict) else {}
+        speed = float(inputs.get("speed", 1.3))
         kin = kinematics_from_table(tables[0], period)
         if not any(k.startswith("hip_flexion") for k in kin.angles):
             return None, None
