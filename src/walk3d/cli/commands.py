@@ -11,6 +11,7 @@ import typer
 from rich.table import Table
 
 from walk3d.cli.common import (
+    SOLVER,
     CalibrationFile,
     Criterion,
     DoubleSupport,
@@ -139,12 +140,14 @@ def predict(
     height: Height = 1.77,
     sex: Sex = "male",
     criterion: Criterion = "tor",
-    seed: Annotated[int, typer.Option("--seed", help="Random start.")] = 0,
+    seed: Annotated[int, typer.Option("--seed", help="Random start.", rich_help_panel=SOLVER)] = 0,
     solver: SolverName = "ipopt",
     nodes: Nodes = 20,
     threads: Annotated[
         int | None,
-        typer.Option("--threads", help="Threads for one solve (default: every core)."),
+        typer.Option(
+            "--threads", help="Threads for one solve (default: every core).", rich_help_panel=SOLVER
+        ),
     ] = None,
     from_trial: FromTrial = None,
     grf: TrialGrf = None,
@@ -268,7 +271,9 @@ def campaign(
     starts: Annotated[int, typer.Option("--starts", help="Number of random starts.")],
     out: Annotated[str, typer.Option("--out", help="Campaign folder (created or resumed).")],
     criterion: Criterion = "tor",
-    seed: Annotated[int, typer.Option("--seed", help="Base seed: start k uses seed+k.")] = 0,
+    seed: Annotated[
+        int, typer.Option("--seed", help="Base seed: start k uses seed+k.", rich_help_panel=SOLVER)
+    ] = 0,
     workers: Annotated[
         int | None, typer.Option("--workers", help="Local worker processes (default: cores).")
     ] = None,

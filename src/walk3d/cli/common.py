@@ -21,30 +21,46 @@ app = typer.Typer(
 console = Console()
 err_console = Console(stderr=True)
 
-Mass = Annotated[float, typer.Option("--mass", help="Body mass, kg.")]
-Height = Annotated[float, typer.Option("--height", help="Stature, m.")]
-Sex = Annotated[str, typer.Option("--sex", help="de Leva table: male or female.")]
-Speed = Annotated[float, typer.Option("--speed", help="Walking speed V, m/s.")]
-Period = Annotated[float, typer.Option("--period", help="Gait-cycle period T, s.")]
-DoubleSupport = Annotated[
-    float, typer.Option("--double-support", help="Double-support duration Td, s.")
+GAIT = "Gait and subject"
+MODEL = "Model"
+SOLVER = "Solver"
+"""Help panels: the three groups of walk3d.problem.settings.PredictionSettings."""
+
+Mass = Annotated[float, typer.Option("--mass", help="Body mass, kg.", rich_help_panel=GAIT)]
+Height = Annotated[float, typer.Option("--height", help="Stature, m.", rich_help_panel=GAIT)]
+Sex = Annotated[
+    str, typer.Option("--sex", help="de Leva table: male or female.", rich_help_panel=GAIT)
 ]
-Criterion = Annotated[str, typer.Option("--criterion", help="tor or en.")]
+Speed = Annotated[
+    float, typer.Option("--speed", help="Walking speed V, m/s.", rich_help_panel=GAIT)
+]
+Period = Annotated[
+    float, typer.Option("--period", help="Gait-cycle period T, s.", rich_help_panel=GAIT)
+]
+DoubleSupport = Annotated[
+    float,
+    typer.Option("--double-support", help="Double-support duration Td, s.", rich_help_panel=GAIT),
+]
+Criterion = Annotated[str, typer.Option("--criterion", help="tor or en.", rich_help_panel=MODEL)]
 SolverName = Annotated[
     str,
     typer.Option(
         "--solver",
         help="ipopt (default) or sqp: CasADi's sqpmethod, the paper's method; far slower, and "
         "not yet seen to converge on the default problem (docs/solver.md).",
+        rich_help_panel=SOLVER,
     ),
 ]
-Nodes = Annotated[int, typer.Option("--nodes", help="Time nodes per half cycle.")]
+Nodes = Annotated[
+    int, typer.Option("--nodes", help="Time nodes per half cycle.", rich_help_panel=SOLVER)
+]
 LinearSolver = Annotated[
     str,
     typer.Option(
         "--linear-solver",
         help="IPOPT's linear solver: mumps (default, built in) or an HSL solver (ma27, ma57, "
         "ma77, ma86, ma97) from an HSL library you have (--hsl-library).",
+        rich_help_panel=SOLVER,
     ),
 ]
 Perturbation = Annotated[
@@ -52,12 +68,16 @@ Perturbation = Annotated[
     typer.Option(
         "--perturbation",
         help="Amplitude of the uniform random numbers added to the standing start (Fourier "
-        "coefficients of sin(angle/2)). 0.1 led 10 of 20 random starts to walking optima, the "
-        "default 8 (docs/solver.md, session 9).",
+        "coefficients of sin(angle/2)). 0.1 led more random starts to walking optima, but not "
+        "the default seed (docs/solver.md).",
+        rich_help_panel=SOLVER,
     ),
 ]
 MaxIter = Annotated[
-    int, typer.Option("--max-iter", help="Advanced: solver iteration limit per stage.")
+    int,
+    typer.Option(
+        "--max-iter", help="Advanced: solver iteration limit per stage.", rich_help_panel=SOLVER
+    ),
 ]
 Restarts = Annotated[
     int,
@@ -65,19 +85,29 @@ Restarts = Annotated[
         "--restarts",
         help="Times a start that did not converge is tried again from a new standing start "
         "(the seed's next random stream; 0: a single try, as in the paper).",
+        rich_help_panel=SOLVER,
     ),
 ]
 HslLibrary = Annotated[
     str | None,
-    typer.Option("--hsl-library", help="Path of libhsl.so or libcoinhsl.so (HSL solvers)."),
+    typer.Option(
+        "--hsl-library",
+        help="Path of libhsl.so or libcoinhsl.so (HSL solvers).",
+        rich_help_panel=SOLVER,
+    ),
 ]
 FromTrial = Annotated[
     str | None,
     typer.Option(
-        "--from-trial", help="IK .mot of a measured trial: V, T and Td from it (needs --grf)."
+        "--from-trial",
+        help="IK .mot of a measured trial: V, T and Td from it (needs --grf).",
+        rich_help_panel=GAIT,
     ),
 ]
-TrialGrf = Annotated[str | None, typer.Option("--grf", help="GRF .mot of the --from-trial trial.")]
+TrialGrf = Annotated[
+    str | None,
+    typer.Option("--grf", help="GRF .mot of the --from-trial trial.", rich_help_panel=GAIT),
+]
 PlateThreshold = Annotated[
     float, typer.Option("--threshold", help="Force-plate contact threshold, N.")
 ]
@@ -86,7 +116,11 @@ BeltSpeed = Annotated[
 ]
 CalibrationFile = Annotated[
     str | None,
-    typer.Option("--calibration", help="Calibration JSON (walk3d calibrate): roll-over, ratios."),
+    typer.Option(
+        "--calibration",
+        help="Calibration JSON (walk3d calibrate): roll-over, ratios.",
+        rich_help_panel=MODEL,
+    ),
 ]
 
 
