@@ -26,14 +26,12 @@ import numpy as np
 
 from walk3d.problem import layout
 
-N_Y, N_T = layout.N_Y, layout.N_T
-N_V = N_Y + 7 + N_T
-"""Variables of one node: ``[Y_k, W0, half step width, T_k]``."""
+N_Y, N_T, N_V = layout.N_Y, layout.N_T, layout.N_V
 NodeDerivs = tuple[ca.Function, ca.Function, ca.Function | list[ca.Function]]
 """``(jac, grad, hess)`` of a node function; ``hess`` maybe as its column blocks."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class NlpPieces:
     """What :func:`walk3d.problem.nlp.build_nlp` hands over to assemble the derivatives."""
 
@@ -43,7 +41,7 @@ class NlpPieces:
     node0: ca.Function
     node: ca.Function
     params: np.ndarray
-    """(2, n) node parameters ``[decay, anchor_x]``."""
+    """(3, n) node parameters ``[decay, anchor_x, ω]`` (:data:`walk3d.problem.layout.N_P`)."""
     lift: np.ndarray
     """(n, 78, N_X) lifting maps."""
     range_mat: np.ndarray
@@ -53,7 +51,8 @@ class NlpPieces:
     weight: float
     """Objective = ``weight · Σ_k f_k[crit]``."""
     crit: int
-    n_g_node: int
+    layout: layout.NlpLayout
+    """The blocks of ``z`` and ``g``."""
     g_loop: ca.MX
     x: ca.MX
     threads: int = 1
@@ -62,17 +61,6 @@ class NlpPieces:
     """``(jac, grad, hess)`` of the mapped node function, if built elsewhere (compiled C, from
     :func:`derivative_chunks`; ``hess`` may be the list of its column blocks, then mapped by
     :func:`map_blocks`); None builds them here with :func:`node_derivatives`."""
-
-
-def node_columns(n: int, k: int) -> np.ndarray:
-    """Positions in ``z = [x, vec(Y), W0, vec(T)]`` of node k's variables ``v_k``."""
-    off_w0 = layout.N_X + n * N_Y
-    return np.concatenate([
-        layout.N_X + k * N_Y + np.arange(N_Y),
-        off_w0 + np.arange(6),
-        [layout.I_HALF_STEP],
-        off_w0 + 6 + k * N_T + np.arange(N_T),
-    ])  # fmt: skip
 
 
 def _node_symbols(node: ca.Function, crit: int):
@@ -213,11 +201,13 @@ class _Scatter:
 
 def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     """``grad_f``, ``jac_g`` and ``hess_lag`` for ``ca.nlpsol`` (its option names)."""
-    n = pc.lift.shape[0]
+    lay = pc.layout
+    n = lay.nodes
     z, n_z, n_g = pc.z, pc.z.numel(), pc.g.numel()
+    assert (n_z, n_g) == (lay.n_z, lay.n_g), "the NLP does not have the layout's blocks"
     p = ca.MX.sym("p", 0)
     lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
-    cols = [node_columns(n, k) for k in range(n)]
+    cols = [lay.node_columns(k) for k in range(n)]
     v0 = z[cols[0].tolist()]
     vr = ca.reshape(z[np.concatenate(cols[1:]).tolist()], N_V, n - 1)
     jn, dn, hn = pc.node_derivs or node_derivatives(pc.node, pc.crit)
@@ -237,24 +227,26 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     J0, Jr = j0(v0, p0), mapped(jn)(vr, pr)
     gf0, gfr = d0(v0, p0), mapped(dn)(vr, pr)
 
-    # Jacobian rows: [lifting (n*N_Y), nodes (n*N_G), hs (6), ranges, loop checks]
+    # Jacobian rows: the g blocks of the layout
     jac = _Scatter((n_g, n_z))
     lift = pc.lift.reshape(-1, layout.N_X)
     lr, lc = np.nonzero(lift)
     jac.add_const(lr, lc, -lift[lr, lc])
-    jac.add_const(np.arange(n * N_Y), layout.N_X + np.arange(n * N_Y), np.ones(n * N_Y))
-    off = n * N_Y
+    n_y = n * N_Y
+    jac.add_const(lay.g("lift").start + np.arange(n_y), lay.z("y").start + np.arange(n_y),
+                  np.ones(n_y))  # fmt: skip
+    off = lay.g("node").start
     for k, (nz, r, c) in enumerate(_per_node(J0, Jr, jn.sparsity_out(0), n)):
-        jac.add(nz, off + k * pc.n_g_node + r, cols[k][c])
-    off += n * pc.n_g_node
+        jac.add(nz, off + k * layout.N_G + r, cols[k][c])
+    off = lay.g("hs").start
     j_hs = ca.mtimes(ca.DM(pc.hs_map), J0[pc.hs_rows.start : pc.hs_rows.stop, :])
     rh, ch = _triplets(j_hs.sparsity())
     jac.add(j_hs.nz[:], off + rh, cols[0][ch])
-    jac.add_const(off + np.arange(6), layout.N_X + n * N_Y + np.arange(6), -np.ones(6))
-    off += 6
+    jac.add_const(off + np.arange(6), lay.z("w0").start + np.arange(6), -np.ones(6))
+    off = lay.g("range").start
     rg, cg = np.nonzero(pc.range_mat)
     jac.add_const(off + rg, cg, pc.range_mat[rg, cg])
-    off += pc.range_mat.shape[0]
+    off = lay.g("loop").start
     lam_loop = lam_g[off:]
     hess_extra = None
     if pc.g_loop.numel():
@@ -270,12 +262,12 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     grad.add_const(np.arange(n_z), np.zeros(n_z, dtype=int), np.zeros(n_z))
 
     # Hessian of the Lagrangian: node 0 also carries the heel-strike rows (through hs_map)
-    off_nodes = n * N_Y
-    lam_nodes = ca.reshape(lam_g[off_nodes : off_nodes + n * pc.n_g_node], pc.n_g_node, n)
-    lam_hs = lam_g[off_nodes + n * pc.n_g_node : off_nodes + n * pc.n_g_node + 6]
+    rows_nodes, rows_hs = lay.g("node"), lay.g("hs")
+    lam_nodes = ca.reshape(lam_g[rows_nodes.start : rows_nodes.stop], layout.N_G, n)
+    lam_hs = lam_g[rows_hs.start : rows_hs.stop]
     hs = pc.hs_rows
     lam0 = lam_nodes[:, 0] + ca.vertcat(
-        ca.MX(hs.start, 1), ca.mtimes(ca.DM(pc.hs_map).T, lam_hs), ca.MX(pc.n_g_node - hs.stop, 1)
+        ca.MX(hs.start, 1), ca.mtimes(ca.DM(pc.hs_map).T, lam_hs), ca.MX(layout.N_G - hs.stop, 1)
     )
     sf = pc.weight * lam_f
     H0 = h0(v0, ca.DM(pc.params[:, 0]), sf, lam0)

@@ -1,6 +1,13 @@
-"""The decision vector: the one place that defines its order.
+"""The one place that defines the order of the unknowns and the constraint rows.
 
-``x = [c (15 × 11 Fourier coefficients, series-major), half_step_width]`` — 166 entries.
+* ``x = [c (15 × 11 Fourier coefficients, series-major), half_step_width]``: 166 entries, the
+  decision vector of a prediction;
+* ``z = [x, vec(Y) (nodes × 78), W0 (6), vec(T) (nodes × 24)]``: the lifted NLP's variables;
+* ``g = [lifting (nodes × 78), node rows (nodes × N_G), heel-strike tie (6), joint ranges,
+  loop checks]``: its constraint rows, each node's block :data:`G_ROWS`.
+
+:class:`NlpLayout` gives the ``z`` and ``g`` blocks of a grid; the NLP
+(:mod:`walk3d.problem.nlp`), its bounds, its derivatives and the solver all use it.
 
 The 15 series (paper section 2.5; one per independent quaternion element):
 
@@ -39,6 +46,8 @@ Coordinates: the 26 per-node coordinates are the 24 joint coordinates in
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from walk3d.kinematics import fourier
@@ -56,6 +65,35 @@ N_Y = 3 * N_COORD
 """Lifted variables per NLP node: the 26 coordinates, their rates / ω and accelerations / ω²."""
 N_T = 24
 """Slack variables per NLP node, one per DoF (criterion absolute values)."""
+N_W0 = 6
+"""The trailing foot's load at right heel strike: force and moment, in body weights."""
+N_P = 3
+"""Node parameters ``p = [decay, anchor_x, ω]`` (:func:`walk3d.problem.nlp.node_params`). The
+cycle frequency is a parameter, not a constant of the node function, so that one node function,
+and the derivatives compiled from it, serve every V, T and Td of a body."""
+
+G_ROWS = {
+    "loop_position": slice(0, 3),
+    "loop_orientation": slice(3, 6),
+    "loop_velocity": slice(6, 9),
+    "loop_omega": slice(9, 12),
+    "other_points_y": slice(12, 16),
+    "ankle_separation": slice(16, 17),
+    "torso": slice(17, 20),
+    "root_force": slice(20, 25),
+    "other_force": slice(25, 30),
+    "hs_wrench": slice(30, 36),
+    "ball_norm": slice(36, 41),
+    "slack_pos": slice(41, 65),
+    "slack_neg": slice(65, 89),
+    "root_support": slice(89, 95),
+    "other_support": slice(95, 101),
+}
+"""Rows of one node's block of ``g`` (:func:`walk3d.problem.nlp.node_function`), contiguous."""
+N_G = max(r.stop for r in G_ROWS.values())
+"""Rows per node."""
+N_V = N_Y + N_W0 + 1 + N_T
+"""Variables one node's rows depend on: ``[Y_k, W0, half step width, T_k]``."""
 
 # coordinate index -> (series index, shifted by half a cycle?)
 COORD_SOURCE: tuple[tuple[int, bool], ...] = (
@@ -99,3 +137,55 @@ def coordinate_maps(t: np.ndarray, period: float) -> tuple[np.ndarray, np.ndarra
             a[:, i, s * N_COEF : (s + 1) * N_COEF] = block
         maps.append(a)
     return maps[0], maps[1], maps[2]
+
+
+@dataclass(frozen=True)
+class NlpLayout:
+    """The blocks of ``z`` and ``g`` (module doc) for ``nodes`` nodes, ``n_range`` joint-range
+    rows and ``n_loop`` loop-check rows."""
+
+    nodes: int
+    n_range: int = 0
+    n_loop: int = 0
+
+    def _z(self) -> dict[str, int]:
+        return {"x": N_X, "y": self.nodes * N_Y, "w0": N_W0, "t": self.nodes * N_T}
+
+    def _g(self) -> dict[str, int]:
+        return {"lift": self.nodes * N_Y, "node": self.nodes * N_G, "hs": N_W0,
+                "range": self.n_range, "loop": self.n_loop}  # fmt: skip
+
+    @staticmethod
+    def _block(sizes: dict[str, int], name: str) -> slice:
+        start = 0
+        for key, size in sizes.items():
+            if key == name:
+                return slice(start, start + size)
+            start += size
+        raise KeyError(name)
+
+    def z(self, name: str) -> slice:
+        """Block ``x``, ``y``, ``w0`` or ``t`` of ``z``."""
+        return self._block(self._z(), name)
+
+    def g(self, name: str) -> slice:
+        """Block ``lift``, ``node``, ``hs``, ``range`` or ``loop`` of ``g``."""
+        return self._block(self._g(), name)
+
+    @property
+    def n_z(self) -> int:
+        return sum(self._z().values())
+
+    @property
+    def n_g(self) -> int:
+        return sum(self._g().values())
+
+    def node_columns(self, k: int) -> np.ndarray:
+        """Positions in ``z`` of node k's variables ``[Y_k, W0, half step width, T_k]``."""
+        y, w0, t = self.z("y").start, self.z("w0").start, self.z("t").start
+        return np.concatenate([y + k * N_Y + np.arange(N_Y), w0 + np.arange(N_W0),
+                               [I_HALF_STEP], t + k * N_T + np.arange(N_T)])  # fmt: skip
+
+    def node_rows(self, g: np.ndarray) -> np.ndarray:
+        """The node rows of a full ``g`` as ``(nodes, N_G)``."""
+        return np.asarray(g)[self.g("node")].reshape(self.nodes, N_G)

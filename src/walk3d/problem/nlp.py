@@ -37,29 +37,7 @@ from walk3d.problem.schedule import loop_check_times, range_rows, schedule
 from walk3d.problem.settings import ModelSettings, PredictionSettings, ratios_for
 
 N_Y = layout.N_Y
-G_ROWS = {
-    "loop_position": slice(0, 3),
-    "loop_orientation": slice(3, 6),
-    "loop_velocity": slice(6, 9),
-    "loop_omega": slice(9, 12),
-    "other_points_y": slice(12, 16),
-    "ankle_separation": slice(16, 17),
-    "torso": slice(17, 20),
-    "root_force": slice(20, 25),
-    "other_force": slice(25, 30),
-    "hs_wrench": slice(30, 36),
-    "ball_norm": slice(36, 41),
-    "slack_pos": slice(41, 65),
-    "slack_neg": slice(65, 89),
-    "root_support": slice(89, 95),
-    "other_support": slice(95, 101),
-}
-N_G = 101
-N_T = layout.N_T
-N_P = 3
-"""Node parameters ``p = [decay, anchor_x, ω]`` (:func:`node_params`). The cycle frequency
-``ω = 2π/T`` is a parameter, not a constant of the node function, so that the node function,
-and the derivatives compiled from it (``walk3d compile``), serve every V, T and Td of a body."""
+G_ROWS, N_G, N_T, N_P = layout.G_ROWS, layout.N_G, layout.N_T, layout.N_P
 BALL_NORM_MAX = 0.97
 EN_SCALE = 100.0  # C_en is divided by this in the solver's objective (J -> O(1))
 
@@ -346,9 +324,12 @@ def build_nlp(
     g = ca.vertcat(g_lift, ca.vec(gk), g_hs, ca.mtimes(range_mat, x), g_loop)
     prob = {"x": z, "f": f, "g": g}
     if settings.solver.derivatives == "structured":
-        pieces = NlpPieces(z, f, g, node0, node, np.asarray(params), lift, range_np,
-                           G_ROWS["hs_wrench"], hs_map, 2.0 * sch.step, crit, N_G,
-                           g_loop, x, settings.solver.threads, node_derivs)  # fmt: skip
+        lay = layout.NlpLayout(n_nodes, range_np.shape[0], g_loop.numel())
+        pieces = NlpPieces(z=z, f=f, g=g, node0=node0, node=node, params=np.asarray(params),
+                           lift=lift, range_mat=range_np, hs_rows=G_ROWS["hs_wrench"],
+                           hs_map=hs_map, weight=2.0 * sch.step, crit=crit, layout=lay,
+                           g_loop=g_loop, x=x, threads=settings.solver.threads,
+                           node_derivs=node_derivs)  # fmt: skip
         prob["derivatives"] = derivative_functions(pieces)
     return prob, sch, lift
 

@@ -14,7 +14,7 @@ from walk3d.problem import layout
 from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.settings import PredictionSettings
 
-__all__ = ["Schedule", "loop_check_times", "range_rows", "schedule"]
+__all__ = ["Schedule", "loop_check_times", "nlp_layout", "range_rows", "schedule"]
 
 
 @dataclass(frozen=True)
@@ -92,3 +92,9 @@ def loop_check_times(settings: PredictionSettings, sch: Schedule) -> np.ndarray:
     ):
         times.append(toe_off)
     return np.array(times)
+
+
+def nlp_layout(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> layout.NlpLayout:
+    """The blocks of the NLP's ``z`` and ``g`` on this grid (:class:`~layout.NlpLayout`)."""
+    n_range = range_rows(body, settings)[0].shape[0]
+    return layout.NlpLayout(sch.n, n_range, 6 * loop_check_times(settings, sch).size)

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from walk3d.problem import layout, nlp, similarity
+from walk3d.problem import layout, similarity
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.plan import END, SUCCESS, Stage, run_plan
 from walk3d.solve.progress import Listener, StopRule, bound_violation
@@ -71,9 +71,10 @@ def initial_guess(solver: Solver, seed: int, attempt: int = 0) -> np.ndarray:
 
 
 def _z_from_x(solver: Solver, x: np.ndarray, w0: np.ndarray) -> np.ndarray:
-    y = np.einsum("kij,j->ki", solver.lift, x)
-    t = np.zeros(solver.schedule.n * nlp.N_T)
-    z = np.concatenate([x, y.ravel(), w0, t])
+    lay = solver.layout
+    z = np.zeros(lay.n_z)
+    z[lay.z("x")], z[lay.z("w0")] = x, w0
+    z[lay.z("y")] = np.einsum("kij,j->ki", solver.lift, x).ravel()
     return np.clip(z, solver.bounds_balance.lbz, solver.bounds_balance.ubz)
 
 
@@ -88,23 +89,20 @@ def full_stage_start(solver: Solver, z: np.ndarray) -> np.ndarray:
     depends on it), and each slack to ``max(u⁺, u⁻) + SLACK_MARGIN`` at that point.
     """
     z = z.copy()
-    n, n_x, n_y = solver.schedule.n, layout.N_X, nlp.N_Y
-    i_w0 = n_x + n * n_y
-    i_t = i_w0 + 6
-    z[i_w0:i_t] = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
-    z[i_t:] = 0.0
-    rows = nlp.G_ROWS
+    lay, rows = solver.layout, layout.G_ROWS
+    w0, t = lay.z("w0"), lay.z("t")
+    z[w0] = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+    z[t] = 0.0
 
     def node_rows(z: np.ndarray) -> np.ndarray:
-        g = np.array(solver.constraints(z)).ravel()
-        return g[n * n_y : n * n_y + n * nlp.N_G].reshape(n, nlp.N_G)
+        return lay.node_rows(np.array(solver.constraints(z)).ravel())
 
     for _ in range(2):
-        z[i_w0:i_t] = node_rows(z)[0, rows["hs_wrench"]]
+        z[w0] = node_rows(z)[0, rows["hs_wrench"]]
     node = node_rows(z)
     u = np.maximum(-node[:, rows["slack_pos"]], -node[:, rows["slack_neg"]])
     if solver.settings.model.absolute == "slack":
-        z[i_t:] = (u + SLACK_MARGIN).ravel()
+        z[t] = (u + SLACK_MARGIN).ravel()
     return z
 
 

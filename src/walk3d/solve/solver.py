@@ -23,7 +23,8 @@ from walk3d.body.model import BodyModel
 from walk3d.io import blas, compiled, model_cache
 from walk3d.problem import derivatives, nlp, similarity
 from walk3d.problem.bounds import Bounds, bounded_rows, bounds
-from walk3d.problem.schedule import Schedule, schedule
+from walk3d.problem.layout import NlpLayout
+from walk3d.problem.schedule import Schedule, nlp_layout, schedule
 from walk3d.problem.settings import ModelSettings, PredictionSettings, body_for
 from walk3d.solve.options import ipopt_options, sqp_options
 from walk3d.solve.plan import Plan, Stage, default_plan
@@ -58,6 +59,8 @@ class Solver:
     bounds_posture: Bounds
     lift: np.ndarray
     schedule: Schedule
+    layout: NlpLayout
+    """The blocks of ``z`` and ``g`` (:mod:`walk3d.problem.layout`)."""
     plan: Plan
     """The stages a solve runs (:func:`walk3d.solve.plan.default_plan`)."""
     build_time_s: float
@@ -245,7 +248,8 @@ def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool 
         bounds=bounds(body, settings, sch),
         bounds_balance=bounds(body, settings, sch, dynamics=False),
         bounds_posture=bounds(body, settings, sch, dynamics=False, balance=False),
-        lift=lift, schedule=sch, plan=default_plan(settings.solver, settings.model.criterion),
+        lift=lift, schedule=sch, layout=nlp_layout(body, settings, sch),
+        plan=default_plan(settings.solver, settings.model.criterion),
         build_time_s=time.perf_counter() - t0, from_cache=hit, compiled=comp,
     )  # fmt: skip
 
