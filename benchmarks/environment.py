@@ -167,20 +167,20 @@ def now() -> str:
     return datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
-def run_path(name: str, stamp: str | None = None, runs: Path = RUNS) -> Path:
+def run_path(name: str, stamp: str | None = None, runs: Path | None = None) -> Path:
     """``benchmarks/runs/<name>-<UTC timestamp>.json``."""
     stamp = stamp or datetime.now(UTC).strftime("%Y%m%dT%H%M%SZ")
-    return runs / f"{name}-{stamp}.json"
+    return (runs or RUNS) / f"{name}-{stamp}.json"
 
 
-def reference_path(name: str, reference: Path = REFERENCE) -> Path:
+def reference_path(name: str, reference: Path | None = None) -> Path:
     """``benchmarks/reference/<name>.json``, the committed reference result."""
-    return reference / f"{name}.json"
+    return (reference or REFERENCE) / f"{name}.json"
 
 
-def newest_run(name: str, runs: Path = RUNS) -> Path | None:
+def newest_run(name: str, runs: Path | None = None) -> Path | None:
     """The newest raw run of benchmark ``name`` (the timestamps sort as text), or None."""
-    found = sorted(runs.glob(f"{name}-*.json"))
+    found = sorted((runs or RUNS).glob(f"{name}-*.json"))
     return found[-1] if found else None
 
 
