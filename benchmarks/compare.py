@@ -57,7 +57,8 @@ def _shown(env: dict, field: str) -> str:
 
 
 def header_rows(old: dict, new: dict) -> list[tuple[str, str, str, bool]]:
-    """``(field, old, new, differs)`` for the header fields either result records."""
+    """``(field, old, new, differs)`` for the header fields either result records (``-``
+    where one does not; that is not counted as a difference)."""
     rows = []
     for field in environment.FIELDS:
         if field == "dirty":  # shown with the commit
@@ -65,7 +66,7 @@ def header_rows(old: dict, new: dict) -> list[tuple[str, str, str, bool]]:
         a, b = _shown(old, field), _shown(new, field)
         if a == "-" and b == "-":
             continue
-        rows.append((field, a, b, a != b))
+        rows.append((field, a, b, a != b and "-" not in (a, b)))  # unrecorded: not a difference
     return rows
 
 
@@ -124,6 +125,8 @@ def main(argv: list[str] | None = None) -> int:
     for name, data in (("old", old_data), ("new", new_data)):
         if environment.KEY not in data:
             print(f"{name}: written before the environment header; only what it recorded shown")
+        elif data[environment.KEY].get("note"):
+            print(f"{name}: {data[environment.KEY]['note']}")
     rows = header_rows(header(old_data), header(new_data))
     width = max([len(r[1]) for r in rows] + [8])
     if rows:
