@@ -10,11 +10,13 @@ under the key ``"environment"`` of their JSON result:
 * ``python``, ``numpy``, ``scipy``, ``casadi``: the installed versions;
 * ``ipopt``, ``mumps``: the banner IPOPT prints at ``print_level`` 5 ("This is Ipopt version
   3.14.19, running with linear solver MUMPS 5.8.2."), from a one-variable ``nlpsol`` solved in
-  a child process. Neither CasADi's solver stats nor ``casadi.CasadiMeta`` report them at run
-  time, and loading IPOPT in the benchmark's own process would keep walk3d from putting its
-  BLAS under it (``walk3d.io.blas``). If the child fails, the IPOPT version is taken from
-  CasADi's build (``BUILD_IPOPT_VERSION`` in ``CasadiMeta.feature_list()``) and MUMPS's is
-  None; ``solver_versions_from`` says which way they were read;
+  a child process. CasADi's solver stats do not report them, and
+  ``casadi.CasadiMeta.feature_list()`` only names the IPOPT source CasADi was built from
+  (``BUILD_IPOPT_VERSION=3.14.19.mod``) and a MUMPS repository branch; loading IPOPT in the
+  benchmark's own process would keep walk3d from putting its BLAS under it
+  (``walk3d.io.blas``). If the child fails, the IPOPT version is taken from CasADi's build
+  (that ``BUILD_IPOPT_VERSION``) and MUMPS's is None; ``solver_versions_from`` says which way
+  they were read;
 * ``blas``: ``walk3d`` BLAS status (``status().describe()``) in this process, or the one the
   caller passes (``campaign.py``: its workers');
 * ``date``: ISO 8601, UTC; ``solve_revision``: ``walk3d.solve.SOLVE_REVISION``.
