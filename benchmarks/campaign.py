@@ -4,7 +4,10 @@ Runs the same multi-start campaign (default prediction settings, seeds 0..K-1) o
 count on a local Dask cluster and reports starts per minute. The wall time counts everything a
 user waits for: cluster start-up, one model build per worker, the solves and the ranking; the
 solve-only rate (summed solver wall time) is reported too. Each run uses a fresh temporary
-folder. Results go to stdout and, as JSON, to ``benchmarks/results/campaign.json``.
+folder. Results go to stdout and, as JSON, to ``benchmarks/runs/campaign-<UTC time>.json``
+(git-ignored), or with ``--reference`` to the committed ``benchmarks/reference/campaign.json``;
+the result's ``"environment"`` records where it ran (``benchmarks/environment.py``; its BLAS is
+the workers').
 """
 
 from __future__ import annotations
@@ -19,6 +22,10 @@ from pathlib import Path
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
+import environment  # noqa: E402  (benchmarks/environment.py, next to this script)
+
+NAME = "campaign"
+
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -27,18 +34,19 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--criterion", choices=("tor", "en"), default="tor")
     ap.add_argument("--nodes", type=int, default=20)
     ap.add_argument("--max-iter", type=int, default=None, help="default: the settings' default")
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "campaign.json"))
+    environment.add_output_arguments(ap, NAME)
     args = ap.parse_args(argv)
+    out = environment.output_path(args, NAME)
 
     from walk3d.campaign import run_campaign
     from walk3d.problem.settings import PredictionSettings
-    from walk3d.solve import SOLVE_REVISION
     from walk3d.solve.solver import compiled_status
 
     extra = {} if args.max_iter is None else {"max_iter": args.max_iter}
     settings = PredictionSettings(criterion=args.criterion, nodes=args.nodes, **extra)
     compiled = compiled_status(settings)["compiled"]
     print(f"compiled derivatives in the cache: {', '.join(compiled) or 'none'} (walk3d compile)")
+    header = environment.environment()  # at the start: the commit and date this run began at
     runs = []
     for workers in (int(w) for w in args.workers.split(",")):
         with tempfile.TemporaryDirectory(prefix="walk3d-campaign-bench-") as tmp:
@@ -67,12 +75,11 @@ def main(argv: list[str] | None = None) -> int:
     if len(runs) > 1:
         print(f"speed-up {runs[-1]['workers']} vs {runs[0]['workers']} workers: "
               f"{runs[-1]['starts_per_minute'] / runs[0]['starts_per_minute']:.2f}x")  # fmt: skip
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    report_json = {"solve_revision": SOLVE_REVISION, "settings": settings.model_dump(),
-                   "cpu_count": os.cpu_count(),
+    # the BLAS the workers' IPOPT used (this process never loads IPOPT)
+    header["blas"] = next((r["blas"] for r in runs if r["blas"]), "not recorded by the starts")
+    report_json = {environment.KEY: header, "settings": settings.model_dump(),
                    "compiled_derivatives": compiled, "runs": runs}  # fmt: skip
-    out.write_text(json.dumps(report_json, indent=2) + "\n")
+    environment.write(out, report_json)
     print(f"written {out}")
     return 0
 

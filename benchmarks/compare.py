@@ -1,4 +1,11 @@
-"""Compare two runs of ``benchmarks/run.py``: ``python benchmarks/compare.py OLD.json NEW.json``.
+"""Compare two results of ``benchmarks/run.py``: ``python benchmarks/compare.py [[OLD] NEW]``.
+
+Without paths it compares the reference ``benchmarks/reference/run.json`` with the newest raw
+run ``benchmarks/runs/run-*.json``; with one path, the reference with that file. First it
+prints both results' environment headers side by side (commit, CPU, versions, BLAS, date,
+solver revision; ``benchmarks/environment.py``), marking the fields that differ. Results
+written before the header existed show what they recorded (the solver revision and BLAS at
+most) and ``-`` for the rest.
 
 This machine's speed varies by 10-30 % from hour to hour, so a change of the median can be the
 hour's and not the code's. Starts that took exactly the same iterations in both runs followed
@@ -15,10 +22,52 @@ import statistics
 import sys
 from pathlib import Path
 
+_HERE = str(Path(__file__).resolve().parent)
+if _HERE not in sys.path:  # environment.py sits next to this script; also when loaded by path
+    sys.path.insert(0, _HERE)
+import environment  # noqa: E402
 
-def _runs(path: str) -> dict[int, dict]:
-    data = json.loads(Path(path).read_text(encoding="utf-8"))
-    return {int(r["seed"]): r for r in data["runs"]}
+NAME = "run"
+
+
+def _load(path: str | Path) -> dict:
+    return json.loads(Path(path).read_text(encoding="utf-8"))
+
+
+def _runs(path: str | Path) -> dict[int, dict]:
+    return {int(r["seed"]): r for r in _load(path)["runs"]}
+
+
+def header(result: dict) -> dict:
+    """A result's environment header; for a result written before the header existed, the
+    fields it recorded at its top level (``solve_revision``, ``blas``, ``cpu_count``)."""
+    env = result.get(environment.KEY)
+    if isinstance(env, dict):
+        return env
+    old = {"solve_revision": result.get("solve_revision"), "blas": result.get("blas"),
+           "cores": result.get("cpu_count")}  # fmt: skip
+    return {k: v for k, v in old.items() if v is not None}
+
+
+def _shown(env: dict, field: str) -> str:
+    if field == "commit" and env.get("commit"):
+        return env["commit"] + (" (dirty)" if env.get("dirty") else "")
+    value = env.get(field)
+    return "-" if value is None else str(value)
+
+
+def header_rows(old: dict, new: dict) -> list[tuple[str, str, str, bool]]:
+    """``(field, old, new, differs)`` for the header fields either result records (``-``
+    where one does not; that is not counted as a difference)."""
+    rows = []
+    for field in environment.FIELDS:
+        if field == "dirty":  # shown with the commit
+            continue
+        a, b = _shown(old, field), _shown(new, field)
+        if a == "-" and b == "-":
+            continue
+        rows.append((field, a, b, a != b and "-" not in (a, b)))  # unrecorded: not a difference
+    return rows
 
 
 def compare(old: dict[int, dict], new: dict[int, dict]) -> dict:
@@ -43,12 +92,50 @@ def compare(old: dict[int, dict], new: dict[int, dict]) -> dict:
     }
 
 
+def resolve(
+    paths: list[str], reference: Path | None = None, runs: Path | None = None
+) -> list[Path]:
+    """The two files to compare: ``paths`` if two; else the reference first, then the one path
+    given or the newest raw run."""
+    if len(paths) > 2:
+        raise SystemExit("give at most two result files")
+    if len(paths) == 2:
+        return [Path(p) for p in paths]
+    ref = environment.reference_path(NAME, reference)
+    if len(paths) == 1:
+        new = Path(paths[0])
+    else:
+        new = environment.newest_run(NAME, runs)
+        if new is None:
+            raise SystemExit(f"no raw run {NAME}-*.json in {runs or environment.RUNS}: "
+                             "run python benchmarks/run.py first, or give two files")  # fmt: skip
+    if not ref.is_file():
+        raise SystemExit(f"no reference {ref}: give two files")
+    return [ref, new]
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("old")
-    ap.add_argument("new")
+    ap.add_argument("paths", nargs="*", metavar="OLD.json NEW.json",
+                    help="default: the reference and the newest raw run")  # fmt: skip
     args = ap.parse_args(argv)
-    old, new = _runs(args.old), _runs(args.new)
+    old_path, new_path = resolve(args.paths)
+    old_data, new_data = _load(old_path), _load(new_path)
+    print(f"old: {old_path}\nnew: {new_path}")
+    for name, data in (("old", old_data), ("new", new_data)):
+        if environment.KEY not in data:
+            print(f"{name}: written before the environment header; only what it recorded shown")
+        elif data[environment.KEY].get("note"):
+            print(f"{name}: {data[environment.KEY]['note']}")
+    rows = header_rows(header(old_data), header(new_data))
+    width = max([len(r[1]) for r in rows] + [8])
+    if rows:
+        print(f"{'':15} {'old':{width}} new")
+    for field, a, b, differs in rows:
+        print(f"{field:15} {a:{width}} {b}{'   differs' if differs else ''}")
+    print()
+    old = {int(r["seed"]): r for r in old_data["runs"]}
+    new = {int(r["seed"]): r for r in new_data["runs"]}
     c = compare(old, new)
     print(f"{'seed':>4} {'it old':>7} {'it new':>7} {'s old':>7} {'s new':>7} "
           f"{'C old':>7} {'C new':>7}")  # fmt: skip

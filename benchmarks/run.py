@@ -6,20 +6,25 @@ and how many converged starts look like walking (:mod:`walk3d.results.gait_check
 after IPOPT's solve of the first seed it runs the paper-style baseline (SLSQP with finite
 differences) on that same start and reports the speed ratio (``--no-baseline`` skips it).
 Results go to stdout and, as JSON (rewritten after every start), to
-``benchmarks/results/solve.json``.
+``benchmarks/runs/run-<UTC time>.json`` (git-ignored), or with ``--reference`` to the committed
+``benchmarks/reference/run.json``; the result's ``"environment"`` records where it ran
+(``benchmarks/environment.py``). ``python benchmarks/compare.py`` compares the newest run with
+the reference.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import statistics
 import sys
 import time
-from pathlib import Path
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import environment  # noqa: E402  (benchmarks/environment.py, next to this script)
+
+NAME = "run"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -48,14 +53,14 @@ def main(argv: list[str] | None = None) -> int:
         help="keep the derivatives in CasADi's VM (default: compile them to C first, as "
         "walk3d compile, if a C compiler is found; not counted per solve)",
     )
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "solve.json"))
+    environment.add_output_arguments(ap, NAME)
     args = ap.parse_args(argv)
+    out_path = environment.output_path(args, NAME)
 
-    from walk3d.io import blas
     from walk3d.problem.settings import PredictionSettings, available_cores, body_for
     from walk3d.results.evaluate import evaluate_cycle
     from walk3d.results.gait_checks import walking_checks
-    from walk3d.solve import SOLVE_REVISION, ipopt
+    from walk3d.solve import ipopt
 
     threads = args.threads or min(available_cores(), 64)
     settings = PredictionSettings(criterion=args.criterion, nodes=args.nodes, threads=threads)
@@ -80,26 +85,24 @@ def main(argv: list[str] | None = None) -> int:
     build = time.perf_counter() - t0
     source = "SX functions from the model cache" if from_cache else "cold"
     source += f"; compiled derivatives: {', '.join(compiled_kinds) or 'none'}"
-    source += f"; BLAS: {blas.status().describe()}"
+    source += f"; BLAS: {environment.blas_status()}"
     print(
         f"model build: {build:.1f} s ({source}; first stage ready after {first_stage:.1f} s; "
         "not counted per solve)"
     )
+    # after the build: IPOPT is loaded and walk3d's BLAS switch has been made
+    report: dict = {environment.KEY: environment.environment()}
     runs: list[dict] = []
-    report: dict = {}
-    out_path = Path(args.out)
-    out_path.parent.mkdir(parents=True, exist_ok=True)
 
     def summarize() -> None:
         conv = [r["wall_time_s"] for r in runs if r["converged"]]
         report.update({
-            "solve_revision": SOLVE_REVISION,
             "settings": settings.model_dump(),
             "build_time_s": build,
             "first_stage_ready_s": first_stage,
             "build_from_cache": from_cache,
             "compiled_derivatives": compiled_kinds,
-            "blas": blas.status().describe(),
+            "blas": environment.blas_status(),
             "compile": compile_info,
             "starts": len(runs),
             "converged": len(conv),
@@ -109,7 +112,7 @@ def main(argv: list[str] | None = None) -> int:
             "median_time_per_converged_solve_s": statistics.median(conv) if conv else None,
             "runs": runs,
         })  # fmt: skip
-        out_path.write_text(json.dumps(report, indent=2))  # after every start
+        environment.write(out_path, report)  # after every start
 
     def baseline() -> None:
         """SLSQP-FD on the first seed, right after IPOPT's solve of it (same start)."""
@@ -154,7 +157,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"converged {report['converged']}/{args.starts} ({report['walking']} look like "
           f"walking); median per converged solve: "
           f"{report['median_time_per_converged_solve_s']}")  # fmt: skip
-    out_path.write_text(json.dumps(report, indent=2))
+    environment.write(out_path, report)
+    print(f"written {out_path}")
     return 0
 
 
