@@ -106,6 +106,13 @@ def test_resume_may_add_starts_but_not_change_settings(tmp_path):
     with pytest.raises(store.CampaignMismatch, match="revision before 11"):
         store.open_campaign(out, TINY, 5, 8, "ipopt")
     stored["solve_revision"] = SOLVE_REVISION
+    # a campaign whose settings were stored flat (before the groups) resumes as it is
+    grouped = stored["settings"]
+    stored["settings"] = {k: v for group in grouped.values() for k, v in group.items()}
+    store.write_json(out / store.CAMPAIGN_FILE, stored)
+    assert store.open_campaign(out, TINY, 5, 8, "ipopt")["starts"] == 8
+    with pytest.raises(store.CampaignMismatch, match="nodes: stored 6, requested 7"):
+        store.open_campaign(out, TINY.replace(nodes=7), 5, 8, "ipopt")
     # a campaign made before a setting existed is refused, naming that setting
     del stored["settings"]["restarts"]
     store.write_json(out / store.CAMPAIGN_FILE, stored)

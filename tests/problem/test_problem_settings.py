@@ -1,0 +1,78 @@
+"""Prediction settings in three groups: validation, flat construction, copies and old files."""
+
+import math
+
+import pytest
+
+from walk3d.problem.settings import (
+    FIELD_GROUP,
+    GROUPS,
+    GaitSettings,
+    ModelSettings,
+    PredictionSettings,
+    SolverSettings,
+    first_error,
+    flat_settings,
+    recorded_settings,
+)
+
+
+def test_every_setting_belongs_to_exactly_one_group():
+    names = [f for cls in GROUPS.values() for f in cls.model_fields]
+    assert len(names) == len(set(names)) == len(FIELD_GROUP)
+    assert {"speed", "period", "double_support", "mass", "height", "sex"} == set(
+        GaitSettings.model_fields
+    )
+    assert "criterion" in ModelSettings.model_fields and "nodes" in SolverSettings.model_fields
+
+
+def test_flat_fields_are_routed_to_their_groups():
+    s = PredictionSettings(speed=1.2, criterion="en", nodes=12)
+    assert (s.gait.speed, s.model.criterion, s.solver.nodes) == (1.2, "en", 12)
+    grouped = PredictionSettings(
+        gait={"speed": 1.2}, model={"criterion": "en"}, solver={"nodes": 12}
+    )
+    assert grouped == s
+    assert PredictionSettings(**s.flat()) == s == PredictionSettings(**s.model_dump())
+    # the groups are immutable and hashable (solvers are cached per settings)
+    with pytest.raises(ValueError):
+        s.gait.speed = 2.0  # type: ignore[misc]
+    assert hash(s) == hash(PredictionSettings(**s.flat()))
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"double_support": 0.6}, "double-support duration must be in (0, T/2)"),
+        ({"speed": math.nan}, "speed must be a finite number"),
+        ({"friction": 3.0}, "friction must be in (0, 2]"),
+        ({"nodes": 3}, "nodes must be in [6, 200]"),
+        ({"sex": "other"}, "sex: Input should be 'male' or 'female'"),
+        ({"walking_style": "brisk"}, "unknown setting 'walking_style'"),
+        ({"gait": 3}, "gait must be a mapping of settings"),
+    ],
+)
+def test_bad_settings_give_one_line_naming_the_setting(kwargs, words):
+    with pytest.raises(ValueError) as info:
+        PredictionSettings(**kwargs)
+    assert words in first_error(info.value)
+    assert "\n" not in first_error(info.value)
+
+
+def test_replace_validates_and_keeps_the_rest():
+    base = PredictionSettings(nodes=12)
+    faster = base.replace(speed=1.5, max_iter=50)
+    assert (faster.gait.speed, faster.solver.max_iter, faster.solver.nodes) == (1.5, 50, 12)
+    assert faster.model == base.model and base.gait.speed == 1.3806
+    with pytest.raises(ValueError, match="T/2"):
+        base.replace(double_support=0.7)
+
+
+def test_recorded_settings_read_grouped_and_flat_summaries():
+    s = PredictionSettings(speed=1.2, nodes=12)
+    now = {"settings": s.model_dump(), "seed": 3, "method": "ipopt"}
+    before_groups = {"inputs": s.flat() | {"seed": 3, "solver": "ipopt"}}
+    assert recorded_settings(now) == recorded_settings(before_groups) == s.flat()
+    assert PredictionSettings(**recorded_settings(before_groups)) == s
+    assert recorded_settings({"objective": {}}) == {}
+    assert flat_settings(s.model_dump()) == flat_settings(s.flat()) == s.flat()
