@@ -182,7 +182,8 @@ class SolverSettings(_Group):
     name on the library path."""
     perturbation: float = 0.05
     """Amplitude of the uniform noise on the standing start's free coefficients (the paper
-    does not give it). 0.1 walked from more seeds but not from seed 0 (docs/solver.md)."""
+    does not give it). 0.1 led more starts to walking optima, but not the default seed's
+    (docs/solver.md)."""
     restarts: int = 1
     """How often a start that did not converge is tried again from a new standing start (the
     seed's next noise stream). 0: one try, as in the paper."""

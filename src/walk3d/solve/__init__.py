@@ -10,12 +10,9 @@ SOLVERS = ("ipopt", "sqp")
 
 SOLVE_REVISION = 12
 """Increased whenever a change makes a start of the same settings and seed run other stages or
-solve another problem (recorded in each summary.json). Revision 11 solves every mass and
-stature as the reference subject's problem and restarts after a failed balance stage; revision
-12 stops the balance stages that will not converge earlier (``balance_progress_check`` at
-iterations 60 and 80, ``posture_balance_max_iter`` 150). A
-campaign folder records it and refuses to resume under another revision, so that its starts
-stay comparable."""
+solve another problem; recorded in each summary.json. A campaign folder records it and refuses
+to resume under another revision, so that its starts stay comparable (the history of the
+revisions is in docs/solver.md)."""
 
 
 def run_solver(

@@ -28,14 +28,12 @@ def ipopt_options(settings: PredictionSettings) -> dict:
         return opts
     return opts | {
         "ipopt.linear_solver": "mumps",
-        # METIS ordering: on this KKT structure (20 nodes, balance stage, 20 iterations) the
-        # linear algebra took 1.6 s with METIS, 5.0 s with QAMD, 8.3 s with AMD and 25-30 s
-        # with AMF, PORD or MUMPS's automatic choice
+        # METIS ordering: on this KKT structure the fastest ordering measured, several times
+        # faster than MUMPS's automatic choice (docs/solver.md)
         "ipopt.mumps_pivot_order": 5,
-        # MUMPS's workspace: IPOPT's default reserves 1000 % more than MUMPS estimates, and
-        # clearing that memory at every factorization took 1.7 s of system time in seed 0's
-        # full stage (10.6 s -> 8.8 s of linear algebra with 100 %, same iterates); if the
-        # estimate is ever short, IPOPT enlarges it and refactors
+        # MUMPS's workspace as MUMPS estimates it, not IPOPT's default 1000 % more, whose
+        # clearing at every factorization cost system time; same iterates (docs/solver.md).
+        # If the estimate is ever short, IPOPT enlarges it and refactors
         "ipopt.mumps_mem_percent": 100,
     }
 

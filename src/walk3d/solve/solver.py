@@ -296,7 +296,7 @@ def compile_solver(
 ) -> dict:
     """Compile the node derivatives of the balance and full NLPs to C and store them in the
     cache (:mod:`walk3d.io.compiled`), unless already there; later :func:`build_solver` calls
-    load them. Minutes of compiling (6.3 min for both NLPs at -O1 on 2 cores) for a solve
+    load them. Minutes of compiling, once, for a solve
     about twice as fast (docs/solver.md). ``on_done(name, done, total)`` after each library.
     Returns ``{"compiled": number compiled now, "wall_time_s": ...}``; raises
     :class:`walk3d.io.compiled.CompileError` when there is no compiler or it fails.
