@@ -17,7 +17,7 @@ from walk3d.problem.settings import PredictionSettings
 __all__ = ["Schedule", "loop_check_times", "nlp_layout", "range_rows", "schedule"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Schedule:
     """Node times and their phase in the half cycle with the right foot as root."""
 

@@ -28,7 +28,7 @@ IPOPT_SUCCESS = SUCCESS
 """Return statuses counted as converged (:data:`walk3d.solve.plan.SUCCESS`)."""
 
 
-@dataclass
+@dataclass(kw_only=True)
 class SolveOutcome:
     """What a solve returns; ``converged`` is IPOPT's own verdict on the final stage."""
 
