@@ -68,8 +68,9 @@ Perturbation = Annotated[
     typer.Option(
         "--perturbation",
         help="Amplitude of the uniform random numbers added to the standing start (Fourier "
-        "coefficients of sin(angle/2)). 0.1 led more random starts to walking optima, but not "
-        "the default seed (docs/solver.md).",
+        "coefficients of sin(angle/2)). The default keeps the default prediction on the best "
+        "walking optimum; 0.1 sends more of a campaign's starts to walking optima "
+        "(docs/solver.md).",
         rich_help_panel=SOLVER,
     ),
 ]

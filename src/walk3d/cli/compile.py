@@ -1,10 +1,10 @@
 """Compiling the solver's derivatives (``walk3d compile``, and before a large ``walk3d campaign``).
 
-Compiling takes minutes once per model (6.3 min at -O1 on 2 cores for the default 20
-nodes) and makes each solve about twice as fast (docs/solver.md, "Session 6"), so a campaign
-compiles first when it has enough starts to run (:data:`COMPILE_FROM_STARTS`). The libraries
-go to the model cache, where every worker process, and every later ``walk3d predict`` with the
-same sex and criterion (any mass and stature: :mod:`walk3d.problem.similarity`), finds them.
+Compiling takes several minutes on 2 cores, once per sex and criterion, and makes each solve
+about twice as fast (docs/solver.md, "Compiled derivatives"), so a campaign compiles first
+when it has enough starts to run (:data:`COMPILE_FROM_STARTS`). The libraries go to the
+model cache, where every worker process, and every later ``walk3d predict`` with the same sex
+and criterion (any mass and stature: :mod:`walk3d.problem.similarity`), finds them.
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.solver import compile_solver, compiled_status
 
 COMPILE_FROM_STARTS = 30
-"""Starts to run from which a campaign compiles by default: a start takes 1-10 min, and
-compiling saves about half of it for about 6 minutes on 2 cores, once."""
+"""Starts to run from which a campaign compiles by default. Why 30: compiling costs minutes,
+once, and halves every start's solve time, so a campaign of 30 starts gains from it."""
 
 
 def worth_compiling(starts: int) -> bool:

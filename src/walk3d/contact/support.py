@@ -3,8 +3,9 @@
 The paper constrains the vertical force and friction of each stance foot but not *where* the
 reaction acts. Inverse dynamics gives each foot a wrench ``(F, M_O)`` (moment about the global
 origin) that the motion demands; without further limits the optimizer can balance the body
-with a centre of pressure far outside the foot, or with a twisting (free) moment of 50 N·m that
-no shoe can transmit (measured on an early C_tor optimum, with the arms whirling to exploit it).
+with a centre of pressure far outside the foot, or with a twisting (free) moment of over
+50 N·m that no shoe can transmit (a C_tor optimum without these limits whirled its arms to
+exploit one; docs/solver.md).
 A careful model keeps both physical:
 
 * **Centre of pressure inside the footprint.** On the floor (``y = 0``) the wrench is a force at

@@ -4,8 +4,8 @@ Why. CasADi's wheel ships its own OpenBLAS (``libcasadi-tp-openblas.so.0``, 0.3.
 3.7-3.8) built for the generic ``CORE2`` target: SSE2 kernels only, none for AVX, AVX2 or
 AVX-512. MUMPS's dense frontal work (``dgemm``, ``dtrsm``, ...) and IPOPT's vector operations
 run on it. ``scipy-openblas32``, the OpenBLAS build that NumPy's and SciPy's wheels use, picks
-its kernels for the CPU at run time (``SkylakeX`` here). On the default prediction it cut
-IPOPT's linear algebra by 26-28 % per iteration (docs/solver.md, "Session 12").
+its kernels for the CPU at run time. On the default prediction it makes IPOPT's linear algebra
+about a quarter cheaper per iteration (docs/solver.md).
 
 How. CasADi loads its plugins with ``RTLD_DEEPBIND``, so ``LD_PRELOAD`` does not reach them.
 But the dynamic linker satisfies a library's ``DT_NEEDED`` entry with an already loaded library

@@ -3,8 +3,8 @@
 CasADi generates C for an SX function (``Function.generate``); a C compiler turns it into a
 shared library, and ``casadi.external`` loads it back as a Function with the same inputs and
 outputs. Evaluated that way, the node derivative blocks of :func:`walk3d.problem.derivatives.
-derivative_chunks` ran 8.8x faster than in CasADi's SX virtual machine at -O1 and 4.6x at
--O0, with equal values (docs/solver.md, "Session 6").
+derivative_chunks` run about 9 times faster than in CasADi's SX virtual machine at -O1 (5 times
+at -O0), with equal values (docs/solver.md, "Compiled derivatives").
 
 An entry is one library per function, ``lib-<key>-<function name>.so`` in
 :func:`walk3d.io.model_cache.cache_dir`. It is compiled in a temporary folder next to it and
@@ -14,8 +14,9 @@ minutes (:func:`compile_functions`), and only :func:`walk3d.solve.solver.compile
 (``walk3d compile``, campaigns) asks for it.
 
 The compiler is ``$CC``, else ``cc`` or ``gcc`` on the ``PATH``; its flags are ``$WALK3D_CFLAGS``,
-else ``-O1``. ``WALK3D_CFLAGS="-O1 -march=native"`` made the derivative evaluations 12 % faster
-on this machine (docs/solver.md, "Session 12"); such libraries are keyed to the CPU too.
+else ``-O1``: -O2 does not finish on these large functions in reasonable time, and
+``-O1 -march=native`` is only about a tenth faster while its libraries run on one CPU only
+(they are keyed to the CPU; docs/solver.md).
 Without a compiler the solver keeps CasADi's virtual machine (same results).
 """
 

@@ -1,16 +1,15 @@
 """On-disk cache of the model's CasADi functions, so that a new process skips their construction.
 
 What is kept: the SX functions of :func:`walk3d.problem.nlp.model_functions` (the node
-functions of every stage and the loop function). Building them is Python-level symbolic work
-(0.5-0.9 s each, about 4 s of the 12-16 s build at 20 nodes); CasADi reads them back in a few
-hundredths of a second. What is *not* kept, because CasADi's serialization reads it back more
-slowly than it is built (docs/solver.md has the measurements):
+functions of every stage and the loop function). Building them is Python-level symbolic work,
+seconds at 20 nodes; CasADi reads them back in a few hundredths of a second. What is *not*
+kept, because CasADi's serialization reads it back more slowly than it is built
+(docs/solver.md):
 
-* the per-node derivative functions: the full stage's Hessian has 1.7 million SX
-  instructions, serializes to 150 MB and took 2.5-8 s to read back against 1.7 s to build;
-* the ``nlpsol`` objects themselves: serializing all four works in casadi 3.8.2 (custom
-  ``grad_f``/``jac_g``/``hess_lag`` options included, same IPOPT iterates), but made 760 MB
-  that took 18 s to read against 15 s to build.
+* the per-node derivative functions (the full stage's Hessian alone has 1.7 million SX
+  instructions, over 100 MB serialized);
+* the ``nlpsol`` objects themselves (they serialize, custom ``grad_f``/``jac_g``/``hess_lag``
+  options included, but to hundreds of MB).
 
 An entry is one ASCII file ``model-<key>.casadi``: a header line ``walk3d-model-cache <schema>
 <sha256 of the rest>``, then a :class:`casadi.StringSerializer` payload (the key, the names,

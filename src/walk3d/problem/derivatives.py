@@ -1,9 +1,9 @@
 """Exact first and second derivatives of the lifted NLP, assembled from per-node functions.
 
 CasADi differentiates the MX problem of :func:`walk3d.problem.nlp.build_nlp` itself by sweeping
-directional derivatives through the mapped node function. That is exact but slow: at 20 nodes
-the Lagrangian Hessian took 490–660 ms and the constraint Jacobian 180–250 ms per call, about
-two thirds of the solve (docs/solver.md). The NLP's structure makes a cheaper route exact too:
+directional derivatives through the mapped node function. That is exact but several times
+slower per call than the route below, which is the default (``derivatives="structured"``;
+docs/solver.md). The NLP's structure makes this cheaper route exact too:
 
 * node k's rows depend only on its own variables ``v_k = [Y_k (78), W0 (6), half step width,
   T_k (24)]`` (:data:`N_V` = 109), so its Jacobian ``J_k`` and Lagrangian Hessian ``H_k`` are
@@ -96,12 +96,11 @@ def derivative_chunks(
     block of columns (``jacobian(·, v[c0:c1])``), named ``<prefix>_jac_<i>`` and
     ``<prefix>_hess_<i>``, with the signatures of :func:`node_derivatives`.
 
-    Why: to compile them to C (:mod:`walk3d.io.compiled`). The full stage's node Hessian is
-    1.7 million SX instructions; as one C function gcc did not compile it within 10 min at
-    -O0 (9 GB of memory), while 8 column blocks (1.9 million instructions in all, each
-    repeating the gradient) compiled in 38 s at -O0 and 167 s at -O1 on 2 cores, each block
-    under 1.8 GB. :func:`assemble` joins the blocks back; the values are those of
-    :func:`node_derivatives` (tested)."""
+    Why: to compile them to C (:mod:`walk3d.io.compiled`). The full stage's node Hessian
+    (about 1.7 million SX instructions) does not compile as one C function in reasonable time
+    and memory; 8 column blocks compile in minutes (docs/solver.md, "Compiled derivatives").
+    :func:`assemble` joins the blocks back; the values are those of :func:`node_derivatives`
+    (tested)."""
     v, p, sf, lam_g, g, fc = _node_symbols(node, crit)
     grad = ca.gradient(sf * fc + ca.dot(lam_g, g), v)
     edges = np.linspace(0, v.numel(), chunks + 1).astype(int)
@@ -127,11 +126,10 @@ def map_blocks(blocks: list[ca.Function], n: int, threads: int = 1) -> ca.Functi
     nodes, then the nodes' columns put side by side (the same output, bit for bit).
 
     Why: compiled, each Hessian block of the full stage is about 4 MB of straight-line
-    machine code. Node by node, the 8 blocks follow each other and each is fetched anew from
-    memory: 3.7-3.8 ms per node, against 1.9 ms for the same 8 blocks each called
-    repeatedly (its code then stays in the cache). Block by block over 19 nodes (2 threads),
-    the mapped Hessian took 11.6-12.0 ms instead of 16.6-24.5 ms. The Jacobian blocks are
-    small (0.04-0.16 ms): there the extra slicing costs more than it saves."""
+    machine code. Node by node, the 8 blocks evict each other's code from the CPU cache; block
+    by block, each block's code stays there, and the mapped Hessian is markedly faster
+    (docs/solver.md, "Compiled derivatives"). The Jacobian blocks are small: there the extra
+    slicing costs more than it saves, so they are mapped node by node."""
     first = blocks[0]
     args = [ca.MX.sym(first.name_in(i), ca.repmat(first.sparsity_in(i), 1, n))
             for i in range(first.n_in())]  # fmt: skip
@@ -297,13 +295,11 @@ def select_rows(prob: dict, rows: np.ndarray) -> dict:
     Why: a solver stage passes IPOPT only the rows that some bound applies to. The node
     function gives every row at every node, but many rows are bounded only at some nodes
     (the closed loop in double support, the heel-strike wrench at node 0, the second foot's
-    force in double support...): 513 of the full stage's 3592 rows and 1545 of the balance
-    stage's are free. IPOPT keeps a free row as an inequality with a free slack, so it still
-    enlarges the KKT system and its linearization residual counts as infeasibility. Without
-    them (seed 0, same start) the linear algebra took 17 % (balance) to 23 % (full) less time
-    per iteration; the balance stage took the same iterations (108, 109) to the same optimum,
-    the full stage 93 instead of 106 (docs/solver.md, "Session 7"). Their multipliers are
-    zero at any KKT point, so the Hessian gets zeros in their place."""
+    force in double support...). IPOPT keeps a free row as an inequality with a free slack, so
+    it still enlarges the KKT system and its linearization residual counts as infeasibility;
+    leaving them out makes IPOPT's linear algebra about a fifth cheaper per iteration
+    (docs/solver.md). Their multipliers are zero at any KKT point, so the Hessian gets zeros
+    in their place."""
     rows = np.asarray(rows, dtype=int)
     x, g = prob["x"], prob["g"]
     n_g = g.numel()

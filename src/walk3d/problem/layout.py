@@ -41,7 +41,8 @@ line of progression at foot flat. The paper's closed double-support loop needs i
 foot must land where the chain puts it); it is also a useful output.
 
 Coordinates: the 26 per-node coordinates are the 24 joint coordinates in
-:data:`walk3d.body.model.DOF_ORDER` order followed by the right and left stance-foot rotations.
+:attr:`walk3d.body.model.BodyModel.dof_names` order followed by the right and left stance-foot
+rotations.
 """
 
 from __future__ import annotations

@@ -24,14 +24,10 @@ LEG_WALKING_RANGE_DEG = {"knee": ((-5.0, 90.0),)}
 
 Walking knees flex by at most about 60–75° (in swing; the walking optima here reach 74–79°),
 so 90° leaves room for slow, fast and pathological-looking gaits while ruling out kneeling and
-deep squats. Those are not walking, but random starts found them: the geometry-only posture
-stage ended with a knee at 130° (seed 7 of session 7) or a squat with the pelvis at 0.35 m,
-and from there the double-support loop rows became nearly degenerate (multipliers up to 10¹⁶,
-several factorizations per iteration), so the balance stage crawled for hundreds of iterations
-(the slow tail of the benchmark). With the limit, on seeds 0–19 (docs/solver.md, "Session 8")
-the balance stage after the posture fallback converged in 42–88 iterations on 16 of the 18
-starts that took the fallback (without it: 50–800 iterations, five of 17 ran to 800), and the
-20 starts took a third less time.
+deep squats. Random starts otherwise find those postures in the geometry-only posture stage,
+where the double-support loop rows become nearly degenerate and the balance stage crawls for
+hundreds of iterations; with the limit it converges in under 100 iterations or not at all, and
+random starts take about a third less time (docs/solver.md).
 Set ``settings.model.leg_walking_ranges = False`` for the anatomical range.
 """
 

@@ -7,14 +7,12 @@ The two checks of issue #3:
   separated by a mid-stance dip: each maximum at least 0.1 body weight above the dip.
 
 and a third one, because those two pass the crouched local optima that most random starts
-reach (C_tor 6.3–7.4 against 1.9–3.7 for walking; knee 39–44° in swing, force humps about
-1.9 / 0.2 / 1.6 body weights):
+reach (C_tor about 6.3–7.4 against 1.9–3.7 for walking, yet knee about 40° in swing and two
+force humps; docs/solver.md):
 
 * the hip flexes at most 45° in stance. Real gait flexes it about 30–35° at heel strike; the
-  walking optima here reach 29–36°, the crouched ones 57–67° (seeds 0–19 at the defaults,
-  docs/solver.md session 14; with the hip extended to −37° at push-off against −16°); over
-  all of session 14's runs, walking 29–41° and crouched 52–67°. The knee's minimum in stance
-  does not separate them (−5° crouched, 3° walking): the crouch is at the hip.
+  walking optima here stay within 41°, the crouched ones flex it 52–67° (docs/solver.md). The
+  knee's minimum in stance does not separate them: the crouch is at the hip.
 
 A converged optimum can fail any of them: :func:`walking_checks` reports each, and
 ``looks_like_walking`` is true only when all three pass (``issue_checks`` holds the issue's

@@ -1,4 +1,4 @@
-"""Paper-style baseline for benchmarks only: SciPy SLSQP with finite-difference gradients.
+"""Paper-style baseline solver: SciPy SLSQP with finite-difference gradients.
 
 The paper solved its 165-coefficient problem with MATLAB's SQP and finite differences. This
 baseline does the same on walk3d's problem in its dense form (coefficients only, no lifted node
@@ -91,8 +91,8 @@ RESTART_STATUS = {3, 5, 6, 7, 8, 9}
 """SciPy SLSQP exits after which the baseline restarts from its last point (fresh quasi-Newton
 matrix) until its time limit: LSQ subproblem failures (3, 5, 6, 7), a positive directional
 derivative in the line search (8) and the iteration limit (9). MATLAB's SQP, the paper's
-solver, has no such early exits; without restarts SciPy's stopped after 19 s on seed 0
-("More than 3*n iterations in LSQ subproblem"), which measures nothing."""
+solver, has no such early exits; without restarts SciPy's stopped early in the first stage
+("More than 3*n iterations in LSQ subproblem"), which measures nothing (docs/solver.md)."""
 
 
 def slsqp_solve(

@@ -5,11 +5,12 @@ roll-over and the transition ratios (:mod:`walk3d.validation.calibration`), writ
 (:func:`walk3d.io.write_calibration`) and the two figures (``<stem>_rollover.png``,
 ``<stem>_transition.png``) beside it. :func:`load_calibration` reads a file back.
 
-Using a calibration in a prediction: :func:`walk3d.validation.calibration.apply_calibration`
-returns the body model with the calibrated roll-over; the ratios go to
-:func:`walk3d.contact.transition.apply_ratios`. ``walk3d predict`` does not take
-``--calibration`` yet: the solver builds its body and its double-support split internally
-(``walk3d.problem``/``walk3d.solve``), which this module does not change.
+Using a calibration in a prediction: ``walk3d predict --calibration FILE`` (and ``campaign``,
+``compile``) puts the file's roll-over and ratios into the settings (``rollover_s``,
+``rollover_ankle``, ``transition_ratios``), from which the solver builds its body and its
+double-support split. In code, :func:`walk3d.validation.calibration.apply_calibration` returns
+the body model with the calibrated roll-over; the ratios go to
+:func:`walk3d.contact.transition.apply_ratios`.
 """
 
 from __future__ import annotations
