@@ -51,17 +51,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", default=str(Path(__file__).parent / "results" / "solve.json"))
     args = ap.parse_args(argv)
 
-    from walk3d.io import blas
     from walk3d.problem.settings import PredictionSettings, available_cores, body_for
     from walk3d.results.evaluate import evaluate_cycle
     from walk3d.results.gait_checks import walking_checks
-    from walk3d.solve import SOLVE_REVISION, ipopt
+    from walk3d.solve import SOLVE_REVISION, blas, ipopt
 
     threads = args.threads or min(available_cores(), 64)
     settings = PredictionSettings(criterion=args.criterion, nodes=args.nodes, threads=threads)
     compile_info = None
     if args.compile:
-        from walk3d.io.compiled import compiler
+        from walk3d.solve.compiled import compiler
         from walk3d.solve.solver import compile_solver
 
         if compiler() is None:

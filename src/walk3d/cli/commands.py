@@ -251,7 +251,7 @@ def cache_info(
     """Show the model cache folder ($WALK3D_CACHE_DIR, else the user cache folder) and what it
     holds; with --clear, delete its entries (always safe: they are rebuilt, or recompiled with
     walk3d compile, when needed)."""
-    from walk3d.io import model_cache
+    from walk3d.solve import model_cache
 
     use = model_cache.cache_usage()
     state = "" if model_cache.cache_enabled() else " (off: WALK3D_CACHE)"

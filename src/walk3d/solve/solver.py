@@ -20,11 +20,11 @@ import casadi as ca
 import numpy as np
 
 from walk3d.body.model import BodyModel
-from walk3d.io import blas, compiled, model_cache
 from walk3d.problem import derivatives, nlp, similarity
 from walk3d.problem.bounds import Bounds, bounded_rows, bounds
 from walk3d.problem.schedule import Schedule, schedule
 from walk3d.problem.settings import PredictionSettings, body_for
+from walk3d.solve import blas, compiled, model_cache
 from walk3d.solve.options import ipopt_options, sqp_options, stage_max_iter
 from walk3d.solve.progress import IterationReporter
 
