@@ -23,10 +23,10 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.io.cycle_table import CycleTable
-from walk3d.io.motion import OPENSIM_COORDINATES
 from walk3d.io.storage import Storage
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import Pose, forward, joint_quaternions, stack_q, stack_v
+from walk3d.results.opensim import OPENSIM_COORDINATES
 from walk3d.validation.reference import detect_knee_sign
 
 __all__ = [
