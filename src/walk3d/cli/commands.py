@@ -106,7 +106,7 @@ def _descriptors_from_trial(ctx, from_trial, grf, **given: float) -> tuple[float
         return given["speed"], given["period"], given["double_support"]
     if from_trial is None or grf is None:
         fail("--from-trial and --grf go together")
-    from walk3d.validation.descriptors import descriptors_from_trial
+    from walk3d.trials.descriptors import descriptors_from_trial
 
     explicit = {
         k for k in given if getattr(ctx.get_parameter_source(k), "name", "") == "COMMANDLINE"

@@ -23,15 +23,15 @@ import numpy as np
 from walk3d.body.model import BodyModel
 from walk3d.io.calibration import read_calibration, write_calibration
 from walk3d.io.storage import read_storage
+from walk3d.trials.descriptors import descriptors_from_trial, foot_loads
+from walk3d.trials.kinematics import kinematics_from_storage
 from walk3d.validation.calibration import (
     Calibration,
     TransitionCheck,
     fit_rollover_from_trial,
     fit_transition,
 )
-from walk3d.validation.descriptors import descriptors_from_trial, foot_loads
 from walk3d.validation.figures import rollover_figure, transition_figure
-from walk3d.validation.kinematics import kinematics_from_storage
 
 __all__ = ["CalibrationResult", "calibrate_from_trial", "load_calibration"]
 
