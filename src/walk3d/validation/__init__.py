@@ -4,31 +4,25 @@
   table or trial files, quantity by quantity with explicit sign conventions;
 * :mod:`.projection`, :mod:`.measured`, :mod:`.criteria`: the measured gait through walk3d's
   Fourier series and inverse dynamics, and Table 3;
-* :mod:`.calibration`, :mod:`.calibrate`: roll-over and transition ratios from a trial;
 * :mod:`.figures`, :mod:`.run`: figures and one complete validation run (``walk3d validate``).
 
-Trials, their descriptors and measured kinematics are read by :mod:`walk3d.trials`.
+Trials, their descriptors and measured kinematics are read by :mod:`walk3d.trials`; roll-over
+and transition ratios are fitted by :mod:`walk3d.calibration`.
 """
 
-from walk3d.validation.calibrate import calibrate_from_trial, load_calibration
-from walk3d.validation.calibration import Calibration, apply_calibration
 from walk3d.validation.compare import Comparison, align_prediction, compare
 from walk3d.validation.measured import GaitFit, fit_measured_gait, measured_prediction
 from walk3d.validation.reference import Reference, reference_from_table, trial_reference
 from walk3d.validation.run import Validation, validate
 
 __all__ = [
-    "Calibration",
     "Comparison",
     "GaitFit",
     "Reference",
     "Validation",
     "align_prediction",
-    "apply_calibration",
-    "calibrate_from_trial",
     "compare",
     "fit_measured_gait",
-    "load_calibration",
     "measured_prediction",
     "reference_from_table",
     "trial_reference",
