@@ -54,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
             report = run_campaign(settings, args.starts, 0, Path(tmp) / "c", workers=workers,
                                   progress=False)  # fmt: skip
             wall = time.perf_counter() - t0
-            # the BLAS the workers' IPOPT used (walk3d.io.blas), from the first start's summary
+            # the BLAS the workers' IPOPT used (walk3d.solve.blas), from the first start's summary
             first = Path(tmp) / "c" / "starts" / "seed_0" / "summary.json"
             blas = json.loads(first.read_text())["blas"] if first.is_file() else None
         solve_s = sum(r["wall_time_s"] or 0.0 for r in report.rows)

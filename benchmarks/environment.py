@@ -14,7 +14,7 @@ under the key ``"environment"`` of their JSON result:
   ``casadi.CasadiMeta.feature_list()`` only names the IPOPT source CasADi was built from
   (``BUILD_IPOPT_VERSION=3.14.19.mod``) and a MUMPS repository branch; loading IPOPT in the
   benchmark's own process would keep walk3d from putting its BLAS under it
-  (``walk3d.io.blas``). If the child fails, the IPOPT version is taken from CasADi's build
+  (``walk3d.solve.blas``). If the child fails, the IPOPT version is taken from CasADi's build
   (that ``BUILD_IPOPT_VERSION``) and MUMPS's is None; ``solver_versions_from`` says which way
   they were read;
 * ``blas``: ``walk3d`` BLAS status (``status().describe()``) in this process, or the one the
@@ -121,13 +121,10 @@ def solver_versions(timeout_s: float = 120.0) -> dict:
 
 
 def blas_status() -> str | None:
-    """walk3d's BLAS under CasADi's IPOPT in this process (its module moves from
-    ``walk3d.io`` to ``walk3d.solve``; either is read)."""
+    """walk3d's BLAS under CasADi's IPOPT in this process."""
     try:
-        try:
-            from walk3d.solve import blas
-        except ImportError:
-            from walk3d.io import blas
+        from walk3d.solve import blas
+
         return blas.status().describe()
     except Exception:  # noqa: BLE001
         return None

@@ -66,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     settings = PredictionSettings(criterion=args.criterion, nodes=args.nodes, threads=threads)
     compile_info = None
     if args.compile:
-        from walk3d.io.compiled import compiler
+        from walk3d.solve.compiled import compiler
         from walk3d.solve.solver import compile_solver
 
         if compiler() is None:

@@ -21,20 +21,17 @@ from pathlib import Path
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from walk3d.body.model import build_body  # noqa: E402
+from walk3d.calibration.calibrate import calibrate_from_trial  # noqa: E402
+from walk3d.calibration.figures import rollover_figure, transition_figure  # noqa: E402
 from walk3d.io import read_cycle_table, read_storage  # noqa: E402
 from walk3d.io._atomic import atomic_write_text  # noqa: E402
 from walk3d.problem.settings import recorded_settings  # noqa: E402
 from walk3d.results.prediction import load_result  # noqa: E402
-from walk3d.validation.calibrate import calibrate_from_trial  # noqa: E402
+from walk3d.trials.descriptors import descriptors_from_trial  # noqa: E402
+from walk3d.trials.kinematics import kinematics_from_table  # noqa: E402
 from walk3d.validation.compare import compare  # noqa: E402
 from walk3d.validation.criteria import criteria_from_reference  # noqa: E402
-from walk3d.validation.descriptors import descriptors_from_trial  # noqa: E402
-from walk3d.validation.figures import (  # noqa: E402
-    comparison_figures,
-    rollover_figure,
-    transition_figure,
-)
-from walk3d.validation.kinematics import kinematics_from_table  # noqa: E402
+from walk3d.validation.figures import comparison_figures  # noqa: E402
 from walk3d.validation.measured import fit_measured_gait, measured_prediction  # noqa: E402
 from walk3d.validation.reference import reference_from_table  # noqa: E402
 

@@ -22,7 +22,7 @@ PERIOD = 1.08
 
 @pytest.fixture(scope="session", autouse=True)
 def _model_cache_dir(tmp_path_factory):
-    """Keep the on-disk model cache (walk3d.io.model_cache) of the tests out of the user's."""
+    """Keep the on-disk model cache (walk3d.solve.model_cache) of the tests out of the user's."""
     old = os.environ.get("WALK3D_CACHE_DIR")
     os.environ["WALK3D_CACHE_DIR"] = str(tmp_path_factory.mktemp("model-cache"))
     yield

@@ -25,8 +25,8 @@ def assert_rel(actual, expected, rel=1e-6):
 
 def sample_calibration():
     """A plausible roll-over calibration (7 knots) with transfer ratios, subject and quality."""
+    from walk3d.calibration.fit import Calibration
     from walk3d.contact.transition import TransitionRatios
-    from walk3d.validation.calibration import Calibration
 
     s = np.sin(np.radians(np.linspace(-60, 30, 7)) / 2)
     ankle = tuple((float(-0.3 * v), float(0.07 + 0.2 * v * v), float(0.01 * v)) for v in s)

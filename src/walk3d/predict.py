@@ -6,13 +6,12 @@ from collections.abc import Callable
 from pathlib import Path
 
 from walk3d import __version__
-from walk3d.io import blas
 from walk3d.problem import similarity
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
 from walk3d.results.gait_checks import walking_checks
 from walk3d.results.prediction import Prediction, save_prediction
-from walk3d.solve import SOLVE_REVISION
+from walk3d.solve import SOLVE_REVISION, blas
 
 
 def _solved_as(settings: PredictionSettings) -> dict:

@@ -86,7 +86,7 @@ def test_a_prediction_that_did_not_converge_is_written_labelled_and_exits_1(tmp_
     assert {st["attempt"] for st in summary["stages"]} == {0, 1}
     assert summary["status"] == summary["stages"][-1]["status"] != "Solve_Succeeded"
     assert "NO - not a valid prediction" in r.stdout and "2 standing starts" in r.stdout
-    # which BLAS IPOPT ran on (walk3d.io.blas), in the summary and the printed table
+    # which BLAS IPOPT ran on (walk3d.solve.blas), in the summary and the printed table
     assert summary["blas"].startswith(("scipy-openblas32 ", "CasADi's"))
     assert f"MUMPS on {summary['blas']}" in r.stdout
     for name in ("result.npz", "motion.mot", "grf.mot", "summary.png"):

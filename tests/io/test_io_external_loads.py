@@ -14,7 +14,6 @@ from walk3d.io import (
     ExternalForceSpec,
     PlateLoad,
     combine_loads,
-    detect_foot_events,
     extract_foot_loads,
     find_plates,
     read_external_loads_xml,
@@ -22,6 +21,7 @@ from walk3d.io import (
     write_external_loads_xml,
     write_grf_storage,
 )
+from walk3d.trials.events import detect_foot_events
 
 
 def _vertical_events(loads):

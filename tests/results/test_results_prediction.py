@@ -9,11 +9,11 @@ import pytest
 from walk3d.body.model import JOINT_NAMES, SEGMENT_NAMES, build_body
 from walk3d.io.errors import DataFileError
 from walk3d.io.external_loads import extract_foot_loads, grf_column_names
-from walk3d.io.motion import OPENSIM_COORDINATES, write_motion
 from walk3d.io.storage import read_storage
 from walk3d.plots import summary_figure
 from walk3d.plots.summary import _title
 from walk3d.results import Prediction, load_result, pelvis_angles, save_prediction
+from walk3d.results.opensim import OPENSIM_COORDINATES, write_motion
 
 N = 21
 RAJAGOPAL = {

@@ -1,14 +1,13 @@
 """The on-disk model cache: a solver built from cached functions is the same solver, and a
-damaged entry is rebuilt (walk3d.io.model_cache)."""
+damaged entry is rebuilt (walk3d.solve.model_cache)."""
 
 import casadi as ca
 import numpy as np
 import pytest
 
-from walk3d.io import model_cache
 from walk3d.problem import nlp
 from walk3d.problem.settings import ModelSettings, PredictionSettings, body_for
-from walk3d.solve import ipopt, solver
+from walk3d.solve import ipopt, model_cache, solver
 
 SETTINGS = PredictionSettings(nodes=6, max_iter=3, balance_max_iter=3)
 

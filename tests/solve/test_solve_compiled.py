@@ -1,15 +1,15 @@
 """The compiled-derivative path of the solver (walk3d.solve.solver.compile_solver): which
 libraries are compiled, that a new build loads them, and that the NLP derivatives assembled
 from them equal the VM ones. The C compiler is replaced by the uncompiled SX blocks here (the
-real compiler is tested in tests/io/test_io_compiled.py; a real compile takes minutes)."""
+real compiler is tested in tests/solve/test_solve_compiled_functions.py; a real compile takes
+minutes)."""
 
 import casadi as ca
 import numpy as np
 import pytest
 
-from walk3d.io import compiled, model_cache
 from walk3d.problem.settings import PredictionSettings
-from walk3d.solve import solver
+from walk3d.solve import compiled, model_cache, solver
 
 SETTINGS = PredictionSettings(nodes=6, criterion="en")
 

@@ -11,10 +11,12 @@ import pytest
 from c3d_support import write_c3d
 from validation_support import cli_env
 
-from walk3d.io import DataFileError, read_c3d_trial
+from walk3d.io import DataFileError
 from walk3d.results.prediction import save_prediction
+from walk3d.trials.c3d_trial import read_c3d_trial
+from walk3d.trials.trial import load_c3d_trial
+from walk3d.validation.reference import trial_reference
 from walk3d.validation.run import sort_references, validate
-from walk3d.validation.trial import load_c3d_trial, trial_reference
 
 pytest.importorskip("ezc3d")
 

@@ -7,11 +7,11 @@ from walk3d.body.model import build_body
 from walk3d.contact.phases import GaitPhases
 from walk3d.io import read_cycle_table
 from walk3d.kinematics.quaternion import conjugate, multiply
+from walk3d.trials.kinematics import zxy_quaternion
+from walk3d.trials.trial import load_trial
 from walk3d.validation.compare import align_prediction, compare, cycle_timing
-from walk3d.validation.kinematics import zxy_quaternion
 from walk3d.validation.quantities import QUANTITIES, _euler_axes, generalized_moments
-from walk3d.validation.reference import Reference, reference_from_table
-from walk3d.validation.trial import load_trial, trial_reference
+from walk3d.validation.reference import Reference, reference_from_table, trial_reference
 
 
 def _self_reference(pred, shift=None):

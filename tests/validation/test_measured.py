@@ -8,9 +8,8 @@ from walk3d.body.model import build_body
 from walk3d.io import read_cycle_table, read_storage
 from walk3d.kinematics.forward import stack_q
 from walk3d.kinematics.quaternion import multiply
-from walk3d.validation.criteria import criteria_from_reference, table3_rows
-from walk3d.validation.descriptors import descriptors_from_trial
-from walk3d.validation.kinematics import (
+from walk3d.trials.descriptors import descriptors_from_trial
+from walk3d.trials.kinematics import (
     MeasuredKinematics,
     joint_coordinates,
     kinematics_from_storage,
@@ -18,6 +17,7 @@ from walk3d.validation.kinematics import (
     segment_poses,
     zxy_quaternion,
 )
+from walk3d.validation.criteria import criteria_from_reference, table3_rows
 from walk3d.validation.measured import _angles_back, fit_measured_gait
 from walk3d.validation.projection import joint_quaternion_from_angles
 from walk3d.validation.reference import reference_from_table

@@ -107,7 +107,7 @@ def _descriptors_from_trial(ctx, from_trial, grf, **given: float) -> tuple[float
         return given["speed"], given["period"], given["double_support"]
     if from_trial is None or grf is None:
         fail("--from-trial and --grf go together")
-    from walk3d.validation.descriptors import descriptors_from_trial
+    from walk3d.trials.descriptors import descriptors_from_trial
 
     explicit = {
         k for k in given if getattr(ctx.get_parameter_source(k), "name", "") == "COMMANDLINE"
@@ -254,7 +254,7 @@ def cache_info(
     """Show the model cache folder ($WALK3D_CACHE_DIR, else the user cache folder) and what it
     holds; with --clear, delete its entries (always safe: they are rebuilt, or recompiled with
     walk3d compile, when needed)."""
-    from walk3d.io import model_cache
+    from walk3d.solve import model_cache
 
     use = model_cache.cache_usage()
     state = "" if model_cache.cache_enabled() else " (off: WALK3D_CACHE)"

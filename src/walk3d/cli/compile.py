@@ -13,8 +13,8 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from walk3d.cli.common import fail
-from walk3d.io import compiled
 from walk3d.problem.settings import PredictionSettings
+from walk3d.solve import compiled
 from walk3d.solve.solver import compile_solver, compiled_status
 
 COMPILE_FROM_STARTS = 30

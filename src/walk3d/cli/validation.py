@@ -83,9 +83,9 @@ def calibrate(
     write them to a calibration file, with the figures OUT_rollover.png and
     OUT_transition.png beside it."""
     from walk3d.body.model import build_body
+    from walk3d.calibration.calibrate import calibrate_from_trial
+    from walk3d.calibration.tables import calibration_table
     from walk3d.io.errors import DataFileError
-    from walk3d.validation.calibrate import calibrate_from_trial
-    from walk3d.validation.tables import calibration_table
 
     if sex not in ("male", "female"):
         fail(f"--sex must be 'male' or 'female', got {sex!r}")

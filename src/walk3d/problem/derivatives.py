@@ -96,7 +96,7 @@ def derivative_chunks(
     block of columns (``jacobian(·, v[c0:c1])``), named ``<prefix>_jac_<i>`` and
     ``<prefix>_hess_<i>``, with the signatures of :func:`node_derivatives`.
 
-    Why: to compile them to C (:mod:`walk3d.io.compiled`). The full stage's node Hessian
+    Why: to compile them to C (:mod:`walk3d.solve.compiled`). The full stage's node Hessian
     (about 1.7 million SX instructions) does not compile as one C function in reasonable time
     and memory; 8 column blocks compile in minutes (docs/solver.md, "Compiled derivatives").
     :func:`assemble` joins the blocks back; the values are those of :func:`node_derivatives`

@@ -234,7 +234,7 @@ def _node_name(dynamics: bool, balance: bool, with_hs: bool) -> str:
 def model_functions(body: BodyModel, model: ModelSettings) -> dict[str, ca.Function]:
     """The SX functions the NLPs of :data:`STAGES` call, by name: two node functions per stage
     (with and without the heel-strike rows) and the loop function. Built in Python, they are
-    the part of a build CasADi reads back quickly, so :mod:`walk3d.io.model_cache` keeps them.
+    the part of a build CasADi reads back quickly, so :mod:`walk3d.solve.model_cache` keeps them.
     """
     fns = {"loop": loop_function(body, model)}
     for dynamics, balance in STAGES.values():

@@ -10,9 +10,9 @@ and a JSON-ready ``summary`` dictionary. :func:`save_prediction` writes a result
   names as unicode arrays (readable with ``allow_pickle=False``). The only unit change is
   ``joint_angle``, stored in **degrees**; everything else is SI as in memory;
 * ``summary.json``: the summary, indented, keys sorted;
-* ``motion.mot``: OpenSim coordinates in degrees (:func:`walk3d.io.motion.write_motion`);
+* ``motion.mot``: OpenSim coordinates in degrees (:func:`walk3d.results.opensim.write_motion`);
 * ``grf.mot`` and ``grf.xml``: ground reactions and their OpenSim ExternalLoads file
-  (:func:`walk3d.io.motion.write_grf`).
+  (:func:`walk3d.results.opensim.write_grf`).
 
 Each file is written atomically (a temporary file in the same folder, then :func:`os.replace`).
 :func:`load_result` reads ``result.npz`` and ``summary.json`` back; all arrays come back
@@ -33,6 +33,7 @@ import numpy as np
 
 from walk3d.io._atomic import atomic_write_bytes, atomic_write_text
 from walk3d.io.errors import DataFileError
+from walk3d.results.opensim import write_grf, write_motion
 
 __all__ = ["Prediction", "load_result", "save_prediction", "RESULT_FILES"]
 
@@ -176,9 +177,6 @@ def save_prediction(pred: Prediction, out_dir: str | PathLike[str]) -> Path:
     Returns:
         The result folder.
     """
-    # imported here: walk3d.io.motion imports walk3d.results.angles (package cycle otherwise)
-    from walk3d.io.motion import write_grf, write_motion
-
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     buffer = io.BytesIO()

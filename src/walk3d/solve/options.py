@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import casadi as ca
 
-from walk3d.io import blas
 from walk3d.problem.settings import PredictionSettings
+from walk3d.solve import blas
 
 __all__ = ["ipopt_options", "linear_solver_error", "sqp_options"]
 
@@ -62,7 +62,7 @@ def linear_solver_error(settings: PredictionSettings) -> str | None:
     that out before a long solve or campaign does."""
     if settings.solver.linear_solver == "mumps":
         return None
-    blas.activate()  # before IPOPT is first loaded (walk3d.io.blas)
+    blas.activate()  # before IPOPT is first loaded (walk3d.solve.blas)
     x = ca.SX.sym("x", 2)
     probe = ca.nlpsol("walk3d_probe", "ipopt", {"x": x, "f": ca.sumsqr(x - 1), "g": x[0] + x[1]},
                       ipopt_options(settings))  # fmt: skip

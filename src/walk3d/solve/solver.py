@@ -4,7 +4,7 @@ A :class:`Solver` holds the NLP's bounds and lifting maps; its stage solvers (Ca
 with IPOPT, or ``sqpmethod``) are built on first use or in the background
 (:meth:`Solver.prepare`). Solvers are kept in memory per settings (:func:`build_solver`); the
 slow symbolic part of a build, the model's SX functions, is also kept on disk for the next
-process (:mod:`walk3d.io.model_cache`). docs/solver.md has the measurements.
+process (:mod:`walk3d.solve.model_cache`). docs/solver.md has the measurements.
 """
 
 from __future__ import annotations
@@ -20,12 +20,12 @@ import casadi as ca
 import numpy as np
 
 from walk3d.body.model import BodyModel
-from walk3d.io import blas, compiled, model_cache
 from walk3d.problem import derivatives, nlp, similarity
 from walk3d.problem.bounds import Bounds, bounded_rows, bounds
 from walk3d.problem.layout import NlpLayout
 from walk3d.problem.schedule import Schedule, nlp_layout, schedule
 from walk3d.problem.settings import ModelSettings, PredictionSettings, body_for
+from walk3d.solve import blas, compiled, model_cache
 from walk3d.solve.options import ipopt_options, sqp_options
 from walk3d.solve.plan import Plan, Stage, default_plan
 from walk3d.solve.progress import IterationReporter
@@ -271,8 +271,8 @@ def build_solver(
     """The solver for these settings (built on first use, then reused in this process).
 
     ``cache``: whether to read and write the model's SX functions in the on-disk cache
-    (:mod:`walk3d.io.model_cache`); None (default) follows ``$WALK3D_CACHE`` (on unless ``0``).
-    First puts an optimized BLAS under IPOPT when it can (:func:`walk3d.io.blas.activate`).
+    (:mod:`walk3d.solve.model_cache`); None (default) follows ``$WALK3D_CACHE`` (on unless ``0``).
+    First puts an optimized BLAS under IPOPT when it can (:func:`walk3d.solve.blas.activate`).
     """
     blas.activate()
     return _build(settings, method, model_cache.cache_enabled(cache))
@@ -295,11 +295,11 @@ def compile_solver(
     jobs: int | None = None,
 ) -> dict:
     """Compile the node derivatives of the balance and full NLPs to C and store them in the
-    cache (:mod:`walk3d.io.compiled`), unless already there; later :func:`build_solver` calls
+    cache (:mod:`walk3d.solve.compiled`), unless already there; later :func:`build_solver` calls
     load them. Minutes of compiling, once, for a solve
     about twice as fast (docs/solver.md). ``on_done(name, done, total)`` after each library.
     Returns ``{"compiled": number compiled now, "wall_time_s": ...}``; raises
-    :class:`walk3d.io.compiled.CompileError` when there is no compiler or it fails.
+    :class:`walk3d.solve.compiled.CompileError` when there is no compiler or it fails.
     What is compiled is the reference subject's problem (:mod:`walk3d.problem.similarity`),
     which :func:`walk3d.solve.ipopt.solve` solves for every mass and stature of this sex."""
     t0 = time.perf_counter()

@@ -20,9 +20,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from walk3d.io.events import detect_contacts
 from walk3d.problem.settings import recorded_settings
 from walk3d.results.prediction import Prediction
+from walk3d.trials.events import detect_contacts
 from walk3d.validation.quantities import QUANTITIES, Quantity, prediction_series
 from walk3d.validation.reference import N_PERCENT, Reference
 

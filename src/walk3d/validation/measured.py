@@ -16,7 +16,7 @@ Choices:
   neck: even): the other coefficients stay zero.
 * DoFs not measured (the neck in OpenSim's gait models) are held at zero and listed.
 * Stance foot (series 14): the foot's global pitch from the measured pelvis orientation and leg
-  angles (:func:`walk3d.validation.kinematics.foot_pitch`), minus its value at foot flat (the
+  angles (:func:`walk3d.trials.kinematics.foot_pitch`), minus its value at foot flat (the
   slowest rotation in single stance), because walk3d's roll-over is anchored at foot flat and
   OpenSim's and walk3d's foot frames differ by a few degrees there.
 * Half step width: half the mean lateral distance of the ankles over double support, from the
@@ -57,7 +57,7 @@ from walk3d.problem.settings import PredictionSettings
 from walk3d.results.angles import ball_joint_angles
 from walk3d.results.evaluate import CycleEvaluation, evaluate_cycle, make_prediction
 from walk3d.results.prediction import Prediction
-from walk3d.validation.kinematics import MeasuredKinematics, foot_pitch, joint_coordinates
+from walk3d.trials.kinematics import MeasuredKinematics, foot_pitch, joint_coordinates
 from walk3d.validation.projection import LEG_DOFS, project_stance
 
 __all__ = ["SMOOTHING", "GaitFit", "fit_measured_gait", "measured_prediction"]

@@ -32,7 +32,7 @@ from scipy.optimize import least_squares
 
 from walk3d.body.model import MIRROR_AXIAL, BodyModel
 from walk3d.kinematics import quaternion as qt
-from walk3d.validation.kinematics import MeasuredKinematics, zxy_quaternion
+from walk3d.trials.kinematics import MeasuredKinematics, zxy_quaternion
 
 __all__ = ["LEG_DOFS", "ProjectedStance", "joint_quaternion_from_angles", "project_stance"]
 

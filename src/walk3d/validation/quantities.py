@@ -36,8 +36,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from walk3d.body.model import build_body
-from walk3d.io.motion import OPENSIM_COORDINATES
 from walk3d.results.angles import pelvis_angles
+from walk3d.results.opensim import OPENSIM_COORDINATES
 from walk3d.results.prediction import Prediction
 
 __all__ = [

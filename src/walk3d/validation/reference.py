@@ -6,7 +6,7 @@ Two sources:
   ``falisse2019/cycle_right_leg_mean_sd.csv`` (OpenSim coordinate names, right leg) or Winter's
   sagittal table;
 * trial files (IK ``.mot``, GRF ``.mot``, optional ID ``.sto``) cut into cycles at force-plate
-  heel strikes (:mod:`walk3d.validation.trial`).
+  heel strikes (:func:`trial_reference`, files read by :mod:`walk3d.trials.trial`).
 
 Column mapping, explicit and with signs (measured value × sign = walk3d convention, see
 :mod:`walk3d.validation.quantities`):
@@ -25,6 +25,17 @@ Column mapping, explicit and with signs (measured value × sign = walk3d convent
 
 Quantities the source does not have are simply absent from :attr:`Reference.mean`; the
 comparison lists them as missing.
+
+Cycles: each heel strike on a force plate starts a cycle of that foot, which ends at the same
+foot's next plate heel strike or, when that was off the plates (one plate per foot in most
+overground trials), one period ``T`` later (``T`` from
+:func:`walk3d.trials.descriptors.descriptors_from_trial`); a cycle is kept for a quantity only
+when the quantity's file covers it. The foot's ground reaction is
+known over its whole cycle even without a second plate strike: it is on its plate in stance and
+in the air in swing. Left cycles stand in for right ones after mirroring the midline
+frontal/transverse quantities and the lateral force (:data:`MIRRORED_ON_LEFT`); the
+coordinate sign of the knee follows :func:`walk3d.trials.kinematics.detect_knee_sign`.
+Cycles of both feet and all trials are pooled into mean ± SD (sample SD; NaN with one cycle).
 """
 
 from __future__ import annotations
@@ -34,9 +45,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from walk3d.io.cycle_table import CycleTable
-from walk3d.validation.quantities import QUANTITIES, Quantity
+from walk3d.trials.events import mean_sd, normalize_cycles
+from walk3d.trials.kinematics import detect_knee_sign
+from walk3d.trials.trial import Trial
+from walk3d.validation.quantities import MIRRORED_ON_LEFT, QUANTITIES, Quantity
 
-__all__ = ["Reference", "detect_knee_sign", "reference_from_table"]
+__all__ = ["Reference", "reference_from_table", "trial_reference"]
 
 N_PERCENT = 101
 
@@ -78,15 +92,6 @@ class Reference:
 
     def has(self, key: str) -> bool:
         return key in self.mean
-
-
-def detect_knee_sign(knee: np.ndarray) -> float:
-    """``+1`` if a knee-angle series is positive in flexion, ``-1`` if negative (see module doc)."""
-    k = np.asarray(knee, dtype=float)
-    k = k[np.isfinite(k)]
-    if k.size == 0:
-        raise ValueError("no finite knee angles to detect the knee sign from")
-    return 1.0 if abs(float(k.max())) >= abs(float(k.min())) else -1.0
 
 
 def _resample(percent: np.ndarray, values: np.ndarray) -> np.ndarray:
@@ -172,3 +177,71 @@ def reference_from_table(
     if winter:
         notes.append("Winter table: sagittal quantities only; moments were extensor-positive")
     return Reference(name, np.linspace(0.0, 100.0, N_PERCENT), mean, sd, counts, tuple(notes))
+
+
+def _cycles(trial: Trial) -> list[tuple[str, float, float]]:
+    if trial.descriptors is None:
+        return []
+    period = trial.descriptors.period
+    out = []
+    for side, ev in trial.descriptors.events.items():
+        strikes = np.sort(ev.heel_strikes)
+        for k, hs in enumerate(strikes):
+            nxt = strikes[k + 1] if k + 1 < strikes.size else None
+            end = float(nxt) if nxt is not None and nxt - hs < 1.5 * period else hs + period
+            out.append((side, float(hs), end))
+    return out
+
+
+def _series(trial: Trial, q: Quantity, side: str, knee_sign: float, mass: float):
+    """(time, values) of one quantity for one side in Table 2 units, or None."""
+    s = side[0]
+    sign = -1.0 if side == "left" and q.name in MIRRORED_ON_LEFT else 1.0
+    if q.group == "grf":
+        if trial.loads is None:
+            return None
+        return trial.loads.time, sign * trial.loads.foot(side).force[:, q.axis] / mass
+    if q.coordinate == "knee_angle":
+        sign *= knee_sign
+    midline = q.coordinate.startswith(("pelvis_", "lumbar_"))
+    if q.group == "angle":
+        col = q.coordinate if midline else f"{q.coordinate}_{s}"
+        st = trial.ik
+        if st is None or not st.has_column(col):
+            return None
+        scale = np.degrees(1.0) if st.in_degrees is False else 1.0
+        return st.time, sign * scale * st.column(col)
+    col = f"{q.coordinate}_moment" if midline else f"{q.coordinate}_{s}_moment"
+    st = trial.inverse_dynamics
+    if st is None or not st.has_column(col):
+        return None
+    return st.time, sign * st.column(col) / mass
+
+
+def trial_reference(trials: list[Trial], mass: float, knee_sign: float | str = "auto") -> Reference:
+    """Pooled mean ± SD cycles of the trials (module doc), in Table 2 units."""
+    if knee_sign == "auto":
+        knees = [t.ik.column(c) for t in trials if t.ik is not None and t.knee_sign is None
+                 for c in ("knee_angle_r", "knee_angle_l") if t.ik.has_column(c)]  # fmt: skip
+        knee_sign = detect_knee_sign(np.concatenate(knees)) if knees else -1.0
+        signs = [float(knee_sign) if t.knee_sign is None else t.knee_sign for t in trials]
+    else:
+        signs = [float(knee_sign)] * len(trials)
+    mean, sd, counts = {}, {}, {}
+    for q in QUANTITIES:
+        sets = []
+        for trial, sign in zip(trials, signs, strict=True):
+            for side, start, end in _cycles(trial):
+                series = _series(trial, q, side, sign, mass)
+                if series is not None:
+                    sets.append(normalize_cycles(series[0], series[1], [start, end], N_PERCENT))
+        n = sum(c.shape[1] for c in sets)
+        if n == 0:
+            continue
+        m, s = mean_sd(*sets)
+        mean[q.key], sd[q.key], counts[q.key] = m, s, n
+    names = ", ".join(t.name for t in trials)
+    stated = sorted({f"{s:+.0f}" for s in signs})
+    notes = (f"knee sign {', '.join(stated)}", "cycles from plate heel strikes, both feet pooled")
+    notes += tuple(n for t in trials for n in t.notes)
+    return Reference(names, np.linspace(0.0, 100.0, N_PERCENT), mean, sd, counts, notes)

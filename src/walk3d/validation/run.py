@@ -1,9 +1,9 @@
 """One validation run: predictions against references, Tables 2 and 3, figures and CSV files.
 
 References are files: cycle tables (``.csv``), trial storages (``.mot``/``.sto``, recognised
-as IK, GRF or ID by :func:`walk3d.validation.trial.classify_storage`) and C3D files (``.c3d``,
+as IK, GRF or ID by :func:`walk3d.trials.trial.classify_storage`) and C3D files (``.c3d``,
 each one complete trial: force platforms and Plug-in Gait angles, see
-:func:`walk3d.validation.trial.load_c3d_trial`). Table 2 uses the first
+:func:`walk3d.trials.trial.load_c3d_trial`). Table 2 uses the first
 cycle table when there is one, otherwise the trial files cut into cycles. Several trials are
 told apart by their file names with the ``_ik``/``_grf``/``_id`` token removed
 (``gait_1_ik.mot`` + ``gait_1_grf.mot`` → trial ``gait_1``); one file of each kind is always one
@@ -32,19 +32,13 @@ from walk3d.io.storage import read_storage
 from walk3d.io.tables import write_csv_table
 from walk3d.problem.settings import recorded_settings
 from walk3d.results.prediction import Prediction
+from walk3d.trials.kinematics import kinematics_from_storage, kinematics_from_table
+from walk3d.trials.trial import Trial, classify_storage, load_c3d_trial, load_trial
 from walk3d.validation.compare import Comparison, compare, cycle_timing
 from walk3d.validation.criteria import criteria_from_reference, table3_rows
 from walk3d.validation.figures import comparison_figures
-from walk3d.validation.kinematics import kinematics_from_storage, kinematics_from_table
 from walk3d.validation.measured import GaitFit, fit_measured_gait
-from walk3d.validation.reference import Reference, reference_from_table
-from walk3d.validation.trial import (
-    Trial,
-    classify_storage,
-    load_c3d_trial,
-    load_trial,
-    trial_reference,
-)
+from walk3d.validation.reference import Reference, reference_from_table, trial_reference
 
 __all__ = ["Validation", "sort_references", "table2_rows", "validate"]
 

@@ -23,7 +23,7 @@ or ``nm``; or IPOPT was already loaded in this process. Results are the same up 
 like the compiled derivatives, a different rounding can move IPOPT's path.
 
 The library is built once per CasADi and ``scipy-openblas32`` version into the model cache
-folder (:func:`walk3d.io.model_cache.cache_dir`), atomically: about 4 s, most of it ``nm``
+folder (:func:`walk3d.solve.model_cache.cache_dir`), atomically: about 4 s, most of it ``nm``
 reading CasADi's libraries; later processes load it in milliseconds.
 """
 
@@ -42,8 +42,8 @@ from pathlib import Path
 
 import casadi as ca
 
-from walk3d.io.compiled import CompileError, build_library, compiler
-from walk3d.io.model_cache import cache_dir
+from walk3d.solve.compiled import CompileError, build_library, compiler
+from walk3d.solve.model_cache import cache_dir
 
 __all__ = ["ENV", "SONAME", "BlasStatus", "activate", "bundled_library", "status"]
 

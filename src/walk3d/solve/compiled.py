@@ -7,7 +7,7 @@ derivative_chunks` run about 9 times faster than in CasADi's SX virtual machine 
 at -O0), with equal values (docs/solver.md, "Compiled derivatives").
 
 An entry is one library per function, ``lib-<key>-<function name>.so`` in
-:func:`walk3d.io.model_cache.cache_dir`. It is compiled in a temporary folder next to it and
+:func:`walk3d.solve.model_cache.cache_dir`. It is compiled in a temporary folder next to it and
 moved into place with ``os.replace``, so a concurrent reader sees either no library or a whole
 one. A library that does not load counts as missing. Compiling is never implicit: it takes
 minutes (:func:`compile_functions`), and only :func:`walk3d.solve.solver.compile_solver`
@@ -36,7 +36,7 @@ from pathlib import Path
 
 import casadi as ca
 
-from walk3d.io.model_cache import cache_dir
+from walk3d.solve.model_cache import cache_dir
 
 __all__ = ["CompileError", "build_library", "compile_functions", "compiler", "flags",
            "load_functions", "require_compiler"]  # fmt: skip

@@ -7,14 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from walk3d.io import (
-    detect_contacts,
-    extract_foot_loads,
-    mean_sd,
-    normalize_cycles,
-    percent_axis,
-    read_storage,
-)
+from walk3d.io import extract_foot_loads, read_storage
+from walk3d.trials.events import detect_contacts, mean_sd, normalize_cycles, percent_axis
 
 
 def _synthetic_force(rate: float = 1000.0, noise: float = 8.0):

@@ -176,7 +176,7 @@ def write_functions(key: str, functions: dict[str, ca.Function]) -> Path | None:
 
 ENTRY_PATTERNS = {"models": "model-*.casadi", "libraries": "lib-*.so", "bridges": "blas-*.so"}
 """The cache folder's finished entries by kind: model functions (this module), compiled
-derivatives (:mod:`walk3d.io.compiled`) and the BLAS bridge (:mod:`walk3d.io.blas`).
+derivatives (:mod:`walk3d.solve.compiled`) and the BLAS bridge (:mod:`walk3d.solve.blas`).
 Temporaries of writes in progress are not entries."""
 
 

@@ -7,9 +7,9 @@ import pytest
 from helpers import sample_calibration
 
 from walk3d.body.model import build_body
+from walk3d.calibration.calibrate import calibrate_from_trial, load_calibration
+from walk3d.calibration.fit import apply_calibration
 from walk3d.io import DataFileError, read_calibration, write_calibration
-from walk3d.validation.calibrate import calibrate_from_trial, load_calibration
-from walk3d.validation.calibration import apply_calibration
 
 
 def test_calibration_file_round_trip(tmp_path):

@@ -1,4 +1,4 @@
-"""The BLAS bridge under CasADi's IPOPT (walk3d.io.blas): it replaces CasADi's bundled OpenBLAS
+"""The BLAS bridge under CasADi's IPOPT (walk3d.solve.blas): it replaces CasADi's bundled OpenBLAS
 in the process, exports every function CasADi's libraries take from it, gives IPOPT the same
 solution, and reports honestly when it cannot switch.
 
@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from walk3d.io import blas, compiled
+from walk3d.solve import blas, compiled
 
 pytestmark = [
     pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the bridge is Linux only"),
@@ -31,7 +31,7 @@ pytestmark = [
 _SCRIPT = r"""
 import json, sys
 import numpy as np
-from walk3d.io import blas
+from walk3d.solve import blas
 if sys.argv[1] == "late":  # load IPOPT before walk3d tries to switch
     import casadi as ca
     y = ca.SX.sym("y")

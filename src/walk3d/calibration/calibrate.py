@@ -1,14 +1,14 @@
 """``walk3d calibrate``: a trial's roll-over and transition ratios into a calibration file.
 
 :func:`calibrate_from_trial` reads the IK and GRF files, derives the descriptors, fits the
-roll-over and the transition ratios (:mod:`walk3d.validation.calibration`), writes the JSON file
+roll-over and the transition ratios (:mod:`walk3d.calibration.fit`), writes the JSON file
 (:func:`walk3d.io.write_calibration`) and the two figures (``<stem>_rollover.png``,
 ``<stem>_transition.png``) beside it. :func:`load_calibration` reads a file back.
 
 Using a calibration in a prediction: ``walk3d predict --calibration FILE`` (and ``campaign``,
 ``compile``) puts the file's roll-over and ratios into the settings (``rollover_s``,
 ``rollover_ankle``, ``transition_ratios``), from which the solver builds its body and its
-double-support split. In code, :func:`walk3d.validation.calibration.apply_calibration` returns
+double-support split. In code, :func:`walk3d.calibration.fit.apply_calibration` returns
 the body model with the calibrated roll-over; the ratios go to
 :func:`walk3d.contact.transition.apply_ratios`.
 """
@@ -22,17 +22,17 @@ from pathlib import Path
 import numpy as np
 
 from walk3d.body.model import BodyModel
-from walk3d.io.calibration import read_calibration, write_calibration
-from walk3d.io.storage import read_storage
-from walk3d.validation.calibration import (
+from walk3d.calibration.figures import rollover_figure, transition_figure
+from walk3d.calibration.fit import (
     Calibration,
     TransitionCheck,
     fit_rollover_from_trial,
     fit_transition,
 )
-from walk3d.validation.descriptors import descriptors_from_trial, foot_loads
-from walk3d.validation.figures import rollover_figure, transition_figure
-from walk3d.validation.kinematics import kinematics_from_storage
+from walk3d.io.calibration import read_calibration, write_calibration
+from walk3d.io.storage import read_storage
+from walk3d.trials.descriptors import descriptors_from_trial, foot_loads
+from walk3d.trials.kinematics import kinematics_from_storage
 
 __all__ = ["CalibrationResult", "calibrate_from_trial", "load_calibration"]
 

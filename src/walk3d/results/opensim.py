@@ -5,22 +5,22 @@ Rajagopal et al. (2016) coordinate names (:data:`OPENSIM_COORDINATES`), angles i
 (``inDegrees=yes``) and translations in metres. :func:`write_grf` writes the two feet's ground
 reactions with :func:`walk3d.io.external_loads.write_grf_storage` and the matching
 ExternalLoads XML.
+
+``pred`` is a :class:`walk3d.results.prediction.Prediction`; it is not imported here, because
+:func:`walk3d.results.prediction.save_prediction` writes these files (no import cycle).
 """
 
 from __future__ import annotations
 
 from os import PathLike
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
 from walk3d.io.external_loads import write_external_loads_xml, write_grf_storage
 from walk3d.io.storage import write_storage
 from walk3d.results.angles import pelvis_angles
-
-if TYPE_CHECKING:
-    from walk3d.results.prediction import Prediction
 
 __all__ = [
     "OPENSIM_COORDINATES",
@@ -95,7 +95,7 @@ def motion_columns(dof_names: tuple[str, ...] | list[str]) -> tuple[str, ...]:
     return PELVIS_COORDINATES + tuple(OPENSIM_COORDINATES.get(n, n) for n in dof_names)
 
 
-def write_motion(path: str | PathLike[str], pred: Prediction, *, name: str = "walk3d") -> Path:
+def write_motion(path: str | PathLike[str], pred: Any, *, name: str = "walk3d") -> Path:
     """Write ``pred`` as an OpenSim coordinates file (``inDegrees=yes``), atomically.
 
     Columns: ``time`` (= ``pred.time``), :data:`PELVIS_COORDINATES` (angles in degrees,
@@ -114,7 +114,7 @@ def write_motion(path: str | PathLike[str], pred: Prediction, *, name: str = "wa
 
 def write_grf(
     path: str | PathLike[str],
-    pred: Prediction,
+    pred: Any,
     *,
     xml_path: str | PathLike[str] | None = None,
     name: str = "walk3d_grf",

@@ -23,16 +23,16 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.io.cycle_table import CycleTable
-from walk3d.io.motion import OPENSIM_COORDINATES
 from walk3d.io.storage import Storage
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import Pose, forward, joint_quaternions, stack_q, stack_v
-from walk3d.validation.reference import detect_knee_sign
+from walk3d.results.opensim import OPENSIM_COORDINATES
 
 __all__ = [
     "PELVIS_TO_HIPS",
     "MeasuredKinematics",
     "ankle_positions",
+    "detect_knee_sign",
     "foot_pitch",
     "joint_coordinates",
     "kinematics_from_storage",
@@ -60,6 +60,16 @@ class MeasuredKinematics:
     pelvis_origin: np.ndarray | None = None
     """(N, 3) OpenSim pelvis_tx, ty, tz, m."""
     knee_sign: float = 1.0
+
+
+def detect_knee_sign(knee: np.ndarray) -> float:
+    """``+1`` if a knee-angle series is positive in flexion, ``-1`` if negative (see
+    :mod:`walk3d.validation.reference`)."""
+    k = np.asarray(knee, dtype=float)
+    k = k[np.isfinite(k)]
+    if k.size == 0:
+        raise ValueError("no finite knee angles to detect the knee sign from")
+    return 1.0 if abs(float(k.max())) >= abs(float(k.min())) else -1.0
 
 
 def kinematics_from_storage(ik: Storage, knee_sign: float | str = "auto") -> MeasuredKinematics:

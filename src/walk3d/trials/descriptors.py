@@ -1,8 +1,8 @@
 """Gait descriptors V, T and Td of a measured trial (IK ``.mot`` + GRF ``.mot``).
 
 * **Events**: heel strikes and toe offs of each foot from its vertical force
-  (:func:`walk3d.io.detect_foot_events`, 20 N threshold by default). Feet are assigned to plates
-  by :func:`walk3d.io.extract_foot_loads`.
+  (:func:`walk3d.trials.events.detect_foot_events`, 20 N threshold by default). Feet are
+  assigned to plates by :func:`walk3d.io.extract_foot_loads`.
 * **Period T**, first method that applies:
 
   1. ``strides``: the mean heel-strike-to-heel-strike time of the same foot, when some foot
@@ -28,9 +28,9 @@ from os import PathLike
 
 import numpy as np
 
-from walk3d.io.events import FootEvents, detect_foot_events, stride_periods
 from walk3d.io.external_loads import FootLoads, extract_foot_loads, find_plates
 from walk3d.io.storage import Storage, read_storage
+from walk3d.trials.events import FootEvents, detect_foot_events, stride_periods
 
 __all__ = [
     "GaitDescriptors",

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from walk3d.io import Storage
-from walk3d.validation.descriptors import descriptors_from_trial, half_cycle_lag
+from walk3d.trials.descriptors import descriptors_from_trial, half_cycle_lag
 
 
 def test_half_cycle_lag_of_a_symmetric_gait_is_half_the_period():

@@ -2,7 +2,7 @@
 
 Roll-over (paper Eq. 1, Fig. 2). For every stance fully inside the trial (force-plate heel
 strike to toe off), walk3d's forward kinematics driven by the measured pelvis pose and leg
-angles (:func:`walk3d.validation.kinematics.segment_poses`) gives the ankle joint centre and the
+angles (:func:`walk3d.trials.kinematics.segment_poses`) gives the ankle joint centre and the
 foot's pitch ``θ``. ``θ`` is taken relative to foot flat (the slowest rotation in mid-stance)
 and the ankle relative to its position there; the height is re-based so that the ankle sits at
 walk3d's ankle height at foot flat (the model's floor). Left stances are mirrored. The pooled
@@ -32,10 +32,10 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.contact.transition import TransitionRatios
-from walk3d.io.events import FootEvents
 from walk3d.io.external_loads import FootLoads
 from walk3d.kinematics.rollover import RollOver, fit_rollover
-from walk3d.validation.kinematics import MeasuredKinematics, ankle_positions, foot_pitch
+from walk3d.trials.events import FootEvents
+from walk3d.trials.kinematics import MeasuredKinematics, ankle_positions, foot_pitch
 
 __all__ = [
     "Calibration",

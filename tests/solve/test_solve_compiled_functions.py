@@ -7,7 +7,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from walk3d.io import compiled
+from walk3d.solve import compiled
 
 pytestmark = pytest.mark.skipif(compiled.compiler() is None, reason="no C compiler on PATH")
 

@@ -1,0 +1,164 @@
+"""The layout of src/walk3d: no import cycle between its modules, and no module over 400 lines.
+
+The import graph is read from the source with :mod:`ast`, not by importing: every ``import`` and
+``from ... import`` counts, also inside functions and ``if TYPE_CHECKING:`` blocks (an import
+made lazy to dodge a cycle is still a cycle). Relative imports are resolved against the
+importing module's package. ``from pkg import name`` is an edge to ``pkg.name`` when that is a
+module, else to ``pkg``; only edges between modules under the scanned root are kept.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+MAX_LINES = 400
+
+
+def modules(root: Path) -> dict[str, Path]:
+    """Dotted module name -> file, for every ``.py`` under ``root`` (packages by their name)."""
+    out = {}
+    for path in sorted(root.rglob("*.py")):
+        parts = path.relative_to(root).with_suffix("").parts
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        out[".".join(parts)] = path
+    return out
+
+
+def import_graph(root: Path) -> dict[str, set[str]]:
+    """Module -> the modules under ``root`` it imports (module doc)."""
+    mods = modules(root)
+    graph: dict[str, set[str]] = {name: set() for name in mods}
+    for name, path in mods.items():
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+            if isinstance(node, ast.Import):
+                graph[name].update(a.name for a in node.names if a.name in mods)
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    anchor = package.split(".")
+                    anchor = anchor[: len(anchor) - node.level + 1]
+                    base = ".".join(anchor + ([base] if base else []))
+                for alias in node.names:
+                    full = f"{base}.{alias.name}"
+                    if full in mods:
+                        graph[name].add(full)
+                    elif base in mods:
+                        graph[name].add(base)
+    return graph
+
+
+def import_cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Strongly connected components of more than one module, and modules importing themselves
+    (Tarjan's algorithm, iterative), each sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    cycles: list[list[str]] = []
+    for start in sorted(graph):
+        if start in index:
+            continue
+        work = [(start, iter(sorted(graph[start])))]
+        index[start] = low[start] = len(index)
+        stack.append(start)
+        on_stack.add(start)
+        while work:
+            v, children = work[-1]
+            w = next(children, None)
+            if w is not None:
+                if w not in index:
+                    index[w] = low[w] = len(index)
+                    stack.append(w)
+                    on_stack.add(w)
+                    work.append((w, iter(sorted(graph[w]))))
+                elif w in on_stack:
+                    low[v] = min(low[v], index[w])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[v])
+            if low[v] == index[v]:
+                component = []
+                while True:
+                    w = stack.pop()
+                    on_stack.discard(w)
+                    component.append(w)
+                    if w == v:
+                        break
+                if len(component) > 1 or v in graph[v]:
+                    cycles.append(sorted(component))
+    return sorted(cycles)
+
+
+def long_modules(root: Path, limit: int = MAX_LINES) -> dict[str, int]:
+    """Files under ``root`` with more than ``limit`` lines -> their line count."""
+    out = {}
+    for path in sorted(root.rglob("*.py")):
+        n = len(path.read_text(encoding="utf-8").splitlines())
+        if n > limit:
+            out[str(path.relative_to(root))] = n
+    return out
+
+
+def _write(root: Path, files: dict[str, str]) -> Path:
+    for rel, text in files.items():
+        path = root / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+    return root
+
+
+def test_walk3d_has_no_import_cycle():
+    graph = import_graph(SRC)
+    assert "walk3d.results.prediction" in graph  # the scan found the package
+    assert "walk3d.results.opensim" in graph["walk3d.results.prediction"]
+    assert import_cycles(graph) == []
+
+
+def test_no_walk3d_module_is_longer_than_400_lines():
+    assert len(modules(SRC)) > 50
+    assert long_modules(SRC) == {}
+
+
+def test_cycle_checker_finds_cycles(tmp_path):
+    """Negative control: synthetic packages with cycles made every way the checker must see."""
+    root = _write(
+        tmp_path,
+        {
+            # pkg -> pkg.g (star import) -> pkg (from pkg import name that is not a module)
+            "pkg/__init__.py": "from pkg.g import *\n",
+            "pkg/g.py": "from pkg import VERSION\n",
+            # a -> b (in a function) -> c (relative, type-checking only) -> a (from pkg import a)
+            "pkg/a.py": "def f():\n    from pkg.b import g\n    return g\n",
+            "pkg/b.py": "from typing import TYPE_CHECKING\n\nif TYPE_CHECKING:\n"
+            "    from .c import h\n\ng = 1\n",
+            "pkg/c.py": "from pkg import a\n\nh = a\n",
+            # self-import, and an acyclic pair: d -> e
+            "pkg/s.py": "import pkg.s\n",
+            "pkg/d.py": "from . import e\n",
+            "pkg/e.py": "import os\n",
+            # sub -> sub.x -> sub (relative, two levels: ``sub`` is a module of ``pkg``)
+            "pkg/sub/__init__.py": "from pkg.sub.x import X\n",
+            "pkg/sub/x.py": "from .. import sub\n\nX = sub\n",
+        },
+    )
+    graph = import_graph(root)
+    assert graph["pkg.d"] == {"pkg.e"}
+    assert import_cycles(graph) == [
+        ["pkg", "pkg.g"],
+        ["pkg.a", "pkg.b", "pkg.c"],
+        ["pkg.s"],
+        ["pkg.sub", "pkg.sub.x"],
+    ]
+    (root / "pkg/c.py").write_text("h = 1\n", encoding="utf-8")
+    assert ["pkg.a", "pkg.b", "pkg.c"] not in import_cycles(import_graph(root))
+
+
+def test_line_limit_finds_long_modules(tmp_path):
+    """Negative control: a 401-line file is reported, a 400-line one is not."""
+    root = _write(tmp_path, {"pkg/long.py": "x = 1\n" * 401, "pkg/ok.py": "x = 1\n" * 400})
+    assert long_modules(root) == {"pkg/long.py": 401}
