@@ -65,12 +65,12 @@ def test_solver_from_cache_equals_a_fresh_one(cache_dir):
 def test_a_damaged_entry_is_rebuilt_and_rewritten(cache_dir, caplog, recorded):
     body = body_for(SETTINGS)
     model_cache.write_functions(_key(SETTINGS), recorded[0])
-    _, hit = solver._model_functions(body, SETTINGS, True)
+    _, hit = solver._model_functions(body, SETTINGS.model, True)
     assert hit
     (entry,) = cache_dir.glob("model-*.casadi")
     text = entry.read_text()
     entry.write_text(text[: len(text) // 2] + "x" + text[len(text) // 2 + 1 :])
-    functions, hit = solver._model_functions(body, SETTINGS, True)
+    functions, hit = solver._model_functions(body, SETTINGS.model, True)
     assert not hit and "damaged" in caplog.text
     assert set(functions) == set(model_cache.read_functions(_key(SETTINGS)))  # rewritten
 
