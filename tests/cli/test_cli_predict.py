@@ -91,3 +91,30 @@ def test_a_prediction_that_did_not_converge_is_written_labelled_and_exits_1(tmp_
     assert f"MUMPS on {summary['blas']}" in r.stdout
     for name in ("result.npz", "motion.mot", "grf.mot", "summary.png"):
         assert (out / name).is_file(), name
+
+
+@pytest.mark.parametrize("command", ["predict", "campaign"])
+def test_an_output_folder_that_cannot_be_written_is_refused_before_any_solve(tmp_path, command):
+    taken = tmp_path / "result.txt"
+    taken.write_text("keep me")
+    extra = ["--starts", "2"] if command == "campaign" else []
+    for out, word in [(taken, "is an existing file"), (taken / "sub", "cannot be created")]:
+        cmd = [sys.executable, "-m", "walk3d.cli", command, "--out", str(out), *extra]
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+        assert r.returncode == 2, r.stderr
+        lines = r.stderr.strip().splitlines()
+        assert len(lines) == 1 and word in lines[0] and "Traceback" not in r.stderr
+    assert taken.read_text() == "keep me"
+
+
+def test_an_unwritable_output_folder_names_the_reason(tmp_path, monkeypatch):
+    import typer
+
+    from walk3d.cli.common import check_output_folder
+
+    check_output_folder(str(tmp_path / "new" / "deeper"))  # negative control: writable, passes
+    assert not (tmp_path / "new").exists()  # the check creates nothing
+    monkeypatch.setattr(os, "access", lambda *_a, **_k: False)  # as a non-root user would see
+    with pytest.raises(typer.Exit) as info:
+        check_output_folder(str(tmp_path / "new"))
+    assert info.value.exit_code == 2

@@ -30,6 +30,7 @@ from walk3d.cli.common import (
     Speed,
     TrialGrf,
     app,
+    check_output_folder,
     console,
     fail,
     settings_from_options,
@@ -162,6 +163,7 @@ def predict(
     summary.png. Exit code 0 if the solve converged, 1 if not (results are still written and
     labelled), 2 for bad input. With --from-trial IK.mot --grf GRF.mot, V, T and Td come from
     the trial unless --speed, --period or --double-support are given explicitly."""
+    check_output_folder(out)
     speed, period, double_support = _descriptors_from_trial(
         ctx, from_trial, grf, speed=speed, period=period, double_support=double_support
     )
@@ -315,6 +317,7 @@ def campaign(
         fail(f"--starts must be a positive integer, got {starts}")
     if workers is not None and workers < 1:
         fail(f"--workers must be a positive integer, got {workers}")
+    check_output_folder(out)
     settings = settings_from_options(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes, max_iter=max_iter,

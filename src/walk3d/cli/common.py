@@ -131,6 +131,29 @@ def fail(message: str, code: int = 2) -> None:
     raise typer.Exit(code)
 
 
+def check_output_folder(path: str, option: str = "--out") -> None:
+    """Refuse, before any work starts, an output folder that cannot be created or written: one
+    line and exit code 2 (a solve of a minute must not end in a write error)."""
+    import errno
+    from pathlib import Path
+
+    out = Path(path)
+    if out.exists() and not out.is_dir():
+        fail(f"{option} {path} is an existing file, not a folder")
+    base = out
+    while not base.exists():
+        base = base.parent
+    if not base.is_dir():
+        fail(f"{option} {path} cannot be created: {base} is a file")
+    if not os.access(base, os.W_OK | os.X_OK):
+        try:
+            read_only = os.statvfs(base).f_flag & os.ST_RDONLY
+        except OSError:
+            read_only = False
+        why = os.strerror(errno.EROFS if read_only else errno.EACCES).lower()
+        fail(f"{option} {path} cannot be written ({base}: {why})")
+
+
 def settings_from_options(criterion: str, solver: str, seed: int, **fields):
     """Validated PredictionSettings from command-line values, or one error line and exit 2."""
     from walk3d.problem.settings import PredictionSettings, first_error
