@@ -78,12 +78,12 @@ def test_bounds_and_variables_have_matching_sizes(setup):
     # the loop is also checked between consecutive double-support nodes and at toe-off
     # (8 nodes: the last double-support node is well before it), within a tolerance
     t_loop = loop_check_times(s, sch)
-    assert t_loop.size == s.model.loop_checks * (sch.double_support.sum() - 1) + 1
+    assert t_loop.size == s.solver.loop_checks * (sch.double_support.sum() - 1) + 1
     assert t_loop[-1] == pytest.approx(sch.times[0] + s.gait.double_support)
     assert b.lbg.size - (n_lift + sch.n * nlp.N_G + 6) - len(range_rows(body, s)[1]) == (
         6 * t_loop.size
     )
-    assert np.all(b.ubg[-6:] == s.model.loop_check_tolerance) and np.all(b.lbg[-6:] < 0)
+    assert np.all(b.ubg[-6:] == s.solver.loop_check_tolerance) and np.all(b.lbg[-6:] < 0)
 
 
 def test_loop_function_matches_the_node_rows(setup):

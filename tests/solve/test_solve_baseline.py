@@ -43,3 +43,21 @@ def test_baseline_out_of_time_is_labelled_unconverged():
     assert not out.converged
     assert out.status == "time limit reached"
     assert out.stages[0]["stage"] == "kinematic" and out.solver == "slsqp-fd"
+
+
+def test_the_smooth_form_of_a_reference_problem_is_not_revalidated():
+    """A short subject's reference problem walks faster than the user-facing range (V / √s);
+    switching its criterion form must keep it as it is (revalidating it would refuse it)."""
+    from walk3d.problem import similarity
+    from walk3d.solve.baseline import _smooth
+
+    ref, _ = similarity.reference_problem(PredictionSettings(height=1.2, speed=3.5))
+    assert ref.gait.speed > 4.0  # outside the range a user may give
+    smooth = _smooth(ref)
+    assert smooth.model.absolute == "smooth" and smooth.gait == ref.gait
+    try:  # negative control: a validated copy refuses it
+        ref.replace(absolute="smooth")
+    except ValueError as exc:
+        assert "speed" in str(exc)
+    else:
+        raise AssertionError("a validated copy accepted V > 4 m/s")

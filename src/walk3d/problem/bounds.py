@@ -114,7 +114,7 @@ def bounds(
     n_lift = n_nodes * N_Y
     _, rlo, rhi = range_rows(body, settings)
     n_loop = 6 * loop_check_times(settings, sch).size
-    tol = np.full(n_loop, settings.model.loop_check_tolerance)
+    tol = np.full(n_loop, settings.solver.loop_check_tolerance)
     lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo, -tol])
     ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6), rhi, tol])
     lay = nlp_layout(body, settings, sch)

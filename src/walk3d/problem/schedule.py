@@ -66,7 +66,7 @@ def range_rows(body: BodyModel, settings: PredictionSettings) -> tuple[np.ndarra
     infeasibility from the standing start (docs/solver.md).
     """
     ph = GaitPhases(settings.gait.period, settings.gait.double_support)
-    m = settings.model.range_oversampling * settings.solver.nodes
+    m = settings.solver.range_oversampling * settings.solver.nodes
     t = ph.heel_strike_r + np.arange(m) * settings.gait.period / (2 * m)
     a0, _, _ = layout.coordinate_maps(t, settings.gait.period)
     ranges = joint_ranges(body, settings)
@@ -82,12 +82,12 @@ def loop_check_times(settings: PredictionSettings, sch: Schedule) -> np.ndarray:
     The loop holds exactly at the nodes; between nodes it drifted by < 0.3 mm, but in the gap
     between the last double-support node and toe-off by up to 10 mm."""
     ds = np.flatnonzero(sch.double_support)
-    m = settings.model.loop_checks
+    m = settings.solver.loop_checks
     frac = np.arange(1, m + 1) / (m + 1)
     times = [sch.times[k] + f * sch.step for k in ds[:-1] for f in frac]
     toe_off = sch.times[0] + settings.gait.double_support
     if (
-        settings.model.loop_check_toe_off
+        settings.solver.loop_check_toe_off
         and toe_off - sch.times[ds[-1]] > 1e-6 * settings.gait.period
     ):
         times.append(toe_off)

@@ -4,8 +4,8 @@
 * :class:`ModelSettings`: which problem is solved (criterion, physical assumptions, and how the
   constraints are stated). With the body it is all that shapes the model's node functions, so
   the model cache key is made of it (:mod:`walk3d.solve.solver`);
-* :class:`SolverSettings`: how the problem is solved (grid, stages, iteration limits,
-  tolerances, threads, linear solver, starts).
+* :class:`SolverSettings`: how the problem is solved (grid and the rows stated between its
+  nodes, stages, iteration limits, tolerances, threads, linear solver, starts).
 
 :class:`PredictionSettings` holds the three. It also takes the fields flat
 (``PredictionSettings(speed=1.2, nodes=12)``), each routed to its group, which is how
@@ -106,18 +106,6 @@ class ModelSettings(_Group):
     leg_walking_ranges: bool = True
     """Narrow the knee to flexion of at most 90° (:mod:`walk3d.problem.ranges`): no kneeling
     or squatting postures."""
-    range_oversampling: int = 0
-    """Extra joint-range rows on a grid this many times finer than the nodes (0: off; 4 made
-    the first stage locally infeasible, docs/solver.md)."""
-    loop_checks: int = 0
-    """Extra closed-loop checks between consecutive double-support nodes (position level).
-    Off: one check per interval kept the posture stage from converging (docs/solver.md)."""
-    loop_check_toe_off: bool = True
-    """Also check the closed loop at the trailing foot's toe-off, which falls between nodes;
-    without it the trailing foot left its roll-over path by up to 10 mm there."""
-    loop_check_tolerance: float = 1e-3
-    """Half-width of the loop-check rows (m for position; quaternion vector units, 1e-3 ≈
-    0.1°, for orientation). Inequalities: stated exactly they made IPOPT stall."""
     rollover_s: tuple[float, ...] | None = None
     """Calibrated roll-over knots (``sin(θ/2)`` of the foot rotation; ``walk3d calibrate``).
     None: the default arc roll-over scaled by foot length."""
@@ -134,9 +122,6 @@ class ModelSettings(_Group):
             (0 <= self.free_moment_radius <= 0.1,
              f"free-moment radius must be in [0, 0.1] m, got {self.free_moment_radius}"),
             (0 < self.smoothing < 0.1, f"smoothing must be in (0, 0.1), got {self.smoothing}"),
-            (0 <= self.loop_checks <= 4, f"loop checks must be in [0, 4], got {self.loop_checks}"),
-            (0 < self.loop_check_tolerance <= 0.05,
-             f"loop check tolerance must be in (0, 0.05], got {self.loop_check_tolerance}"),
             ((self.rollover_s is None) == (self.rollover_ankle is None)
              and (self.rollover_s is None or len(self.rollover_s) == len(self.rollover_ankle)),
              "rollover_s and rollover_ankle go together, one ankle point per knot"),
@@ -153,6 +138,18 @@ class SolverSettings(_Group):
     derivatives: Literal["structured", "casadi"] = "structured"
     """Exact derivatives assembled from per-node blocks (:mod:`walk3d.problem.derivatives`,
     several times cheaper) or CasADi's sweeps through the whole NLP (same values)."""
+    range_oversampling: int = 0
+    """Extra joint-range rows on a grid this many times finer than the nodes (0: off; 4 made
+    the first stage locally infeasible, docs/solver.md)."""
+    loop_checks: int = 0
+    """Extra closed-loop checks between consecutive double-support nodes (position level).
+    Off: one check per interval kept the posture stage from converging (docs/solver.md)."""
+    loop_check_toe_off: bool = True
+    """Also check the closed loop at the trailing foot's toe-off, which falls between nodes;
+    without it the trailing foot left its roll-over path by up to 10 mm there."""
+    loop_check_tolerance: float = 1e-3
+    """Half-width of the loop-check rows (m for position; quaternion vector units, 1e-3 ≈
+    0.1°, for orientation). Inequalities: stated exactly they made IPOPT stall."""
     posture_stage: Literal["fallback", "first", "off"] = "fallback"
     """When the geometry-only posture stage runs: ``fallback`` (only when the balance stage
     from standing, or the full stage after it, has not converged), ``first`` or ``off``."""
@@ -202,6 +199,9 @@ class SolverSettings(_Group):
                   self.full_max_iter)  # fmt: skip
         self._check([
             (6 <= self.nodes <= 200, f"nodes must be in [6, 200], got {self.nodes}"),
+            (0 <= self.loop_checks <= 4, f"loop checks must be in [0, 4], got {self.loop_checks}"),
+            (0 < self.loop_check_tolerance <= 0.05,
+             f"loop check tolerance must be in (0, 0.05], got {self.loop_check_tolerance}"),
             (1 <= self.threads <= 64, f"threads must be in [1, 64], got {self.threads}"),
             (0 <= self.perturbation <= 0.5,
              f"perturbation must be in [0, 0.5], got {self.perturbation}"),

@@ -19,12 +19,19 @@ from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.ipopt import SolveOutcome, build_solver, initial_guess
 
 
+def _smooth(settings: PredictionSettings) -> PredictionSettings:
+    """``settings`` with the smooth criterion form, not revalidated: a reference problem's
+    descriptors may lie outside the user-facing ranges (:mod:`walk3d.problem.similarity`)."""
+    model = settings.model.model_copy(update={"absolute": "smooth"})
+    return settings.model_copy(update={"model": model})
+
+
 class _Dense:
     """Objective and constraints as plain functions of x (166) for one stage."""
 
     def __init__(self, settings: PredictionSettings, dynamics: bool):
         # the paper's form: the (smoothed) criterion itself is the objective, no slack variables
-        settings = settings.replace(**{"absolute": "smooth"})
+        settings = _smooth(settings)
         sv = build_solver(settings)
         self.sv = sv
         node = nlp.node_function(sv.body, settings.model, dynamics)
@@ -102,7 +109,7 @@ def slsqp_solve(
     after early exits (:data:`RESTART_STATUS`) until ``time_limit_s``."""
     t0 = time.perf_counter()
     settings, scale = similarity.reference_problem(settings)  # as the default solver does
-    sv = build_solver(settings.replace(**{"absolute": "smooth"}))
+    sv = build_solver(_smooth(settings))
     z0 = initial_guess(sv, seed)
     x = np.concatenate([z0[: layout.N_X], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]])
     status, iters, stages = "not run", 0, []

@@ -162,10 +162,10 @@ def solve(
             z0 = full_stage_start(solver, ends["previous"])
         else:
             z0 = ends[stage.start]
+        note(stage.title)
         fn = solver.stage(stage)
         if stage.on_success != END:
             solver.prepare(stage.on_success)  # built while this stage solves
-        note(stage.title)
         listener = None
         if on_stage is not None:
             listener = lambda it, f, viol: on_stage(  # noqa: E731

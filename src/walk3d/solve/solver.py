@@ -46,7 +46,8 @@ class Solver:
     Building a stage's exact derivatives is most of a build, so a stage solver is built when
     first asked for (:meth:`stage`), and :meth:`prepare` builds stages in a background thread
     while another stage solves (CasADi releases the GIL). Stages of one NLP and iteration limit
-    share a solver; a stage never run is never built.
+    share a solver; a solve builds the stages it runs and, in the background, the stage that
+    follows each one on success.
     """
 
     settings: PredictionSettings

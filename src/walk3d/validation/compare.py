@@ -5,7 +5,8 @@ starts at right toe off (:mod:`walk3d.contact.phases`): right heel strike is at
 ``t_hs = T/2 - Td``. The prediction, periodic by construction, is therefore read at
 ``t = (t_hs + p T / 100) mod T`` for ``p = 0, 1, ..., 100`` (101 samples, the two ends being the
 same instant), with linear interpolation between its time nodes. ``T`` and ``Td`` come from the
-prediction's ``summary["inputs"]``; without them, ``T`` is the span of ``pred.time`` and the heel
+settings the prediction's summary records (:func:`walk3d.problem.settings.recorded_settings`);
+without them, ``T`` is the span of ``pred.time`` and the heel
 strike is where the right foot's vertical force first rises above 20 N.
 
 Scores, per quantity, over the 101 samples: RMSE between prediction and reference mean, and
