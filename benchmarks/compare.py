@@ -70,6 +70,15 @@ def header_rows(old: dict, new: dict) -> list[tuple[str, str, str, bool]]:
     return rows
 
 
+def settings_differences(old: dict, new: dict) -> list[tuple[str, object, object]]:
+    """``(setting, old, new)`` for every prediction setting the two results ran with that
+    differs (grouped or flat, as any walk3d stored them); such results compare other problems."""
+    from walk3d.problem.settings import flat_settings
+
+    a, b = flat_settings(old.get("settings") or {}), flat_settings(new.get("settings") or {})
+    return [(k, a.get(k), b.get(k)) for k in sorted(set(a) | set(b)) if a.get(k) != b.get(k)]
+
+
 def compare(old: dict[int, dict], new: dict[int, dict]) -> dict:
     """Medians of both runs over their converged starts, and the machine's speed ratio."""
     seeds = sorted(set(old) & set(new))
@@ -133,6 +142,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{'':15} {'old':{width}} new")
     for field, a, b, differs in rows:
         print(f"{field:15} {a:{width}} {b}{'   differs' if differs else ''}")
+    for key, a, b in settings_differences(old_data, new_data):
+        print(f"settings differ: {key}: old {a!r}, new {b!r}")
     print()
     old = {int(r["seed"]): r for r in old_data["runs"]}
     new = {int(r["seed"]): r for r in new_data["runs"]}

@@ -162,3 +162,21 @@ def test_the_committed_references_carry_the_header():
         data = json.loads((BENCHMARKS / "reference" / f"{name}.json").read_text())
         assert set(data["environment"]) >= set(_header()), name
         assert data["runs"]
+
+
+def test_results_of_other_settings_are_named(tmp_path, capsys):
+    """Two results that ran other settings compare other problems: the differing settings are
+    printed (grouped settings against the flat ones of an older result)."""
+    from walk3d.problem.settings import PredictionSettings
+
+    old = PredictionSettings(nodes=20)
+    new = old.replace(nodes=12)
+    cmp = _module()
+    assert cmp.settings_differences({"settings": old.flat()}, {"settings": new.model_dump()}) == [
+        ("nodes", 20, 12)
+    ]
+    assert cmp.settings_differences({"settings": old.flat()}, {"settings": old.model_dump()}) == []
+    a = _write(tmp_path / "a.json", OLD, _header(), settings=old.flat())
+    b = _write(tmp_path / "b.json", NEW, _header(), settings=new.model_dump())
+    cmp.main([str(a), str(b)])
+    assert "settings differ: nodes: old 20, new 12" in capsys.readouterr().out
