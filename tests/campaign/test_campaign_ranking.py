@@ -206,3 +206,34 @@ def test_walking_verdict_flows_from_summary_to_ranking_and_table():
     lines = [line for line in console.export_text().splitlines() if "Solve_Succeeded" in line]
     assert "yes" in lines[0].split("1.9")[1] and " no " in lines[1]
     assert "looks_like_walking" in COLUMNS
+
+
+@pytest.mark.parametrize(
+    ("address", "word"),
+    [("foo", "not a scheduler address"), ("tcp://127.0.0.1:1", "no Dask scheduler answers")],
+)
+def test_a_bad_scheduler_is_refused_quickly_without_a_folder(tmp_path, address, word):
+    import time
+
+    out = tmp_path / "c"
+    cmd = [sys.executable, "-m", "walk3d.cli", "campaign", "--starts", "2", "--out", str(out),
+           "--scheduler", address]  # fmt: skip
+    t0 = time.perf_counter()
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    assert time.perf_counter() - t0 < 10
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and word in lines[0], r.stderr
+    assert not out.exists()
+
+
+def test_a_listening_scheduler_address_passes_the_check():
+    """Negative control for the test above: an address that accepts connections passes."""
+    import socket
+
+    from walk3d.campaign.runner import check_scheduler
+
+    with socket.create_server(("127.0.0.1", 0)) as server:
+        check_scheduler(f"tcp://127.0.0.1:{server.getsockname()[1]}", timeout_s=2.0)
+    with pytest.raises(ValueError, match="no Dask scheduler answers"):
+        check_scheduler("tcp://127.0.0.1:1", timeout_s=2.0)

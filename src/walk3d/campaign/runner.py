@@ -80,6 +80,33 @@ class CampaignReport:
         return self.best_seed is not None
 
 
+SCHEDULER_TIMEOUT_S = 8.0
+"""How long a campaign waits for ``--scheduler`` to answer before refusing it."""
+
+
+def check_scheduler(address: str, timeout_s: float = SCHEDULER_TIMEOUT_S) -> None:
+    """Raise ValueError (one line) unless ``address`` is a Dask scheduler address that accepts
+    a connection within ``timeout_s``; checked before a campaign folder is made."""
+    from distributed.comm import parse_address
+    from distributed.comm.addressing import parse_host_port
+
+    try:
+        scheme, location = parse_address(address)
+        host, port = parse_host_port(location) if scheme in ("tcp", "tls") else (None, None)
+    except ValueError as exc:
+        raise ValueError(f"--scheduler {address!r} is not a scheduler address "
+                         f"(e.g. tcp://10.0.0.5:8786): {exc}") from None  # fmt: skip
+    if host is None:
+        return  # another transport: the client reports it
+    import socket
+
+    try:
+        socket.create_connection((host, int(port)), timeout=timeout_s).close()
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise ValueError(f"no Dask scheduler answers at {address} ({reason.lower()})") from None
+
+
 @contextlib.contextmanager
 def _client(workers: int | None, scheduler: str | None, pending: int) -> Iterator[Client]:
     """A Dask client: to ``scheduler`` if given, else to a fresh local process cluster."""
@@ -166,10 +193,13 @@ def run_campaign(
     Finally ``ranking.csv`` and ``best/`` are written for every start in the folder.
 
     Raises:
-        ValueError: invalid ``starts``, ``base_seed``, ``workers`` or ``solver``.
+        ValueError: invalid ``starts``, ``base_seed``, ``workers`` or ``solver``, or a
+            ``scheduler`` that is malformed or does not answer (:func:`check_scheduler`).
         walk3d.campaign.store.CampaignMismatch: ``out_dir`` holds a different campaign.
     """
     _validate(starts, base_seed, workers, solver)
+    if scheduler:
+        check_scheduler(scheduler)
     t0 = time.perf_counter()
     out = Path(out_dir)
     store.open_campaign(out, settings, base_seed, starts, solver)

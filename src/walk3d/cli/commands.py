@@ -318,6 +318,13 @@ def campaign(
     if workers is not None and workers < 1:
         fail(f"--workers must be a positive integer, got {workers}")
     check_output_folder(out)
+    if scheduler:
+        from walk3d.campaign.runner import check_scheduler
+
+        try:
+            check_scheduler(scheduler)
+        except ValueError as exc:
+            fail(str(exc))
     settings = settings_from_options(
         criterion, solver, seed, speed=speed, period=period, double_support=double_support,
         mass=mass, height=height, sex=sex, nodes=nodes, max_iter=max_iter,
