@@ -160,3 +160,26 @@ def test_column_count_disagrees_with_header(tmp_path: Path, falisse: Path) -> No
         lambda ls: [ls[0], ls[1], ls[2], "nColumns=37\n", *ls[4:]],
     )
     _assert_error(path, 7, "header declares 37 columns, label line has 38")
+
+
+def test_non_finite_values_are_refused_in_the_columns_used(tmp_path: Path) -> None:
+    """NaN or inf in a column a command reads is refused naming the file, the column and the
+    first row; other columns of the same file stay readable (negative control)."""
+    t = np.arange(5) * 0.01
+    data = np.column_stack([np.arange(5.0), np.arange(5.0) * 2])
+    path = tmp_path / "grf.mot"
+    write_storage(path, t, ("fx", "fy"), data, name="grf")
+    text = path.read_text().splitlines()
+    text[-3] = text[-3].rsplit(maxsplit=1)[0] + " nan"  # fy, data row 3
+    text[-1] = text[-1].rsplit(maxsplit=1)[0] + " inf"
+    path.write_text("\n".join(text) + "\n")
+    storage = read_storage(path)
+    np.testing.assert_array_equal(storage.column("fx"), np.arange(5.0))
+    with pytest.raises(DataFileError) as info:
+        storage.column("fy")
+    msg = str(info.value)
+    assert msg.startswith("grf.mot: column 'fy'") and "2 rows" in msg and "data row 3" in msg
+    text[-2] = "nan " + text[-2].split(maxsplit=1)[1]  # a time that is not finite
+    path.write_text("\n".join(text) + "\n")
+    with pytest.raises(DataFileError, match="time holds nan in data row 4"):
+        read_storage(path)

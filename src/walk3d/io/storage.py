@@ -107,10 +107,23 @@ class Storage:
             raise KeyError(f"no column {name!r}{where}") from None
 
     def column(self, name: str) -> np.ndarray:
-        """The values of one column, shape ``(N,)`` (read-only view)."""
+        """The values of one column, shape ``(N,)`` (read-only view).
+
+        Raises:
+            DataFileError: the column holds NaN or an infinite value (naming the file, the
+                column and the first such data row): a command never computes with them.
+        """
         if name.lower() == "time" and name not in self.columns:
-            return self.time
-        return self.data[:, self.index(name)]
+            values = self.time
+        else:
+            values = self.data[:, self.index(name)]
+        bad = np.flatnonzero(~np.isfinite(values))
+        if bad.size:
+            k = int(bad[0])
+            reason = (f"column {name!r} is not finite in {bad.size} rows, first in data row "
+                      f"{k + 1} (time {self.time[k]:g} s: {values[k]})")  # fmt: skip
+            raise DataFileError(self.path or Path(self.name or "storage"), reason)
+        return values
 
     @property
     def sample_rate(self) -> float:
@@ -245,6 +258,10 @@ def read_storage(path: str | PathLike[str]) -> Storage:
         )
 
     values = np.array(rows, dtype=float).reshape(len(rows), width)
+    bad_time = np.flatnonzero(~np.isfinite(values[:, 0]))
+    if bad_time.size:
+        raise DataFileError(path, f"time holds {values[bad_time[0], 0]} in data row "
+                            f"{int(bad_time[0]) + 1}", None)  # fmt: skip
     return Storage(
         name=name,
         time=values[:, 0],
