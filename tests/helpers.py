@@ -1,4 +1,8 @@
-"""Helpers shared by the tests: finite differences (physics tests) and a sample calibration."""
+"""Helpers shared by the tests: finite differences (physics tests), a sample calibration and
+the location of the shared measured data."""
+
+import os
+from pathlib import Path
 
 import numpy as np
 
@@ -33,3 +37,9 @@ def sample_calibration():
     return Calibration(tuple(float(v) for v in s), ankle, (float(s[1]), float(s[-2])),
                        TransitionRatios(0.25, -0.02, 0.14, -0.01),
                        subject={"mass_kg": 62.0}, quality={"rms_m": 0.007})  # fmt: skip
+
+
+def shared_data_dir() -> Path:
+    """``$WALK3D_SHARED_DATA`` if set, else ``../shared/data`` beside the repository."""
+    env = os.environ.get("WALK3D_SHARED_DATA")
+    return Path(env) if env else Path(__file__).resolve().parents[1].parent / "shared" / "data"

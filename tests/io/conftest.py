@@ -2,18 +2,10 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pytest
-
-
-def shared_data_dir() -> Path:
-    """``$WALK3D_SHARED_DATA`` if set, else ``../shared/data`` beside the repository."""
-    env = os.environ.get("WALK3D_SHARED_DATA")
-    if env:
-        return Path(env)
-    return Path(__file__).resolve().parents[2].parent / "shared" / "data"
+from helpers import shared_data_dir
 
 
 @pytest.fixture(scope="session")

@@ -2,20 +2,14 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pytest
-
-
-def _shared_data_dir() -> Path:
-    """``$WALK3D_SHARED_DATA`` if set, else ``../shared/data`` beside the repository."""
-    env = os.environ.get("WALK3D_SHARED_DATA")
-    return Path(env) if env else Path(__file__).resolve().parents[2].parent / "shared" / "data"
+from helpers import shared_data_dir
 
 
 def _folder(name: str) -> Path:
-    folder = _shared_data_dir() / name
+    folder = shared_data_dir() / name
     if not folder.is_dir():
         pytest.skip(f"measured data not found at {folder} (set WALK3D_SHARED_DATA)")
     return folder

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from validation_support import shared_data_dir
+from helpers import shared_data_dir
 
 from walk3d.body.model import build_body
 from walk3d.problem import layout

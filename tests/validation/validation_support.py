@@ -8,12 +8,6 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[2]
 
 
-def shared_data_dir() -> Path:
-    """``$WALK3D_SHARED_DATA`` if set, else ``../shared/data`` beside the repository."""
-    env = os.environ.get("WALK3D_SHARED_DATA")
-    return Path(env) if env else REPO.parent / "shared" / "data"
-
-
 def cli_env() -> dict[str, str]:
     """Environment for ``python -m walk3d.cli`` subprocesses running this checkout's code."""
     env = dict(os.environ)
