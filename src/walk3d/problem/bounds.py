@@ -14,7 +14,7 @@ from walk3d.body.model import BodyModel
 from walk3d.problem import layout
 from walk3d.problem.nlp import BALL_NORM_MAX, G_ROWS, N_G, N_T, N_Y, per_foot_loads
 from walk3d.problem.ranges import joint_ranges
-from walk3d.problem.schedule import Schedule, loop_check_times, nlp_layout, range_rows
+from walk3d.problem.schedule import Schedule, loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings
 
 
@@ -117,6 +117,6 @@ def bounds(
     tol = np.full(n_loop, settings.solver.loop_check_tolerance)
     lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo, -tol])
     ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6), rhi, tol])
-    lay = nlp_layout(body, settings, sch)
+    lay = layout.NlpLayout(n_nodes, rlo.size, n_loop)
     assert (lbz.size, lbg.size) == (lay.n_z, lay.n_g), "bounds out of the layout's blocks"
     return Bounds(lbz, ubz, lbg, ubg)

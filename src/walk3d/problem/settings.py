@@ -278,7 +278,7 @@ class PredictionSettings(BaseModel):
 
     def flat(self) -> dict[str, Any]:
         """Every setting by its own name, groups dissolved."""
-        return {k: v for g in GROUPS for k, v in getattr(self, g).model_dump().items()}
+        return flat_settings(self.model_dump())
 
 
 def flat_settings(values: dict[str, Any]) -> dict[str, Any]:
