@@ -6,10 +6,10 @@ from collections.abc import Callable
 from pathlib import Path
 
 from walk3d import __version__
-from walk3d.problem import similarity
+from walk3d.problem import similarity, terms
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
-from walk3d.results.gait_checks import walking_checks
+from walk3d.results.gait_checks import realism_figures, walking_checks
 from walk3d.results.prediction import Prediction, save_prediction
 from walk3d.solve import SOLVE_REVISION, blas
 
@@ -42,6 +42,7 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "stages": outcome.stages,
         "compiled_derivatives": list(outcome.compiled_derivatives),
         "blas": blas.status().describe(),
+        "criterion_preset": terms.preset_name(settings.model.criterion),
         "objective": ev.criteria,
         "objective_smoothed": ev.criteria_smoothed,
         "max_constraint_violation": outcome.max_constraint_violation,
@@ -50,12 +51,19 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "stride_length_m": ev.stride_length_m,
         "stride_length_target_m": settings.gait.stride_length,
         "step_width_m": ev.step_width_m,
+        "cycle_violations": ev.cycle_violations,
+        "coefficients": {
+            "layout": "walk3d.problem.layout: 15 Fourier series x 11 coefficients, then the "
+            "half step width (m)",
+            "x": [float(v) for v in outcome.x],
+        },
         "gait_checks": walking_checks(
             ev.prediction_arrays,
             settings.gait.period,
             settings.gait.double_support,
             settings.gait.mass,
-        ),
+        )
+        | realism_figures(ev.prediction_arrays, settings.gait.mass, ev.step_width_m),
     }
 
 

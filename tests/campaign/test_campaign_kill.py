@@ -12,7 +12,7 @@ STARTS = 6
 
 
 def _command(out):
-    options = f"--starts {STARTS} --seed 3 --workers 2 --nodes 6 --max-iter 3 --restarts 0".split()
+    options = f"--starts {STARTS} --seed 3 --workers 2 --nodes 6 --max-iter 3 --restarts 0 --criterion tor".split()
     return [sys.executable, "-m", "walk3d.cli", "campaign", *options, "--out", str(out)]
 
 

@@ -35,6 +35,16 @@ def _dense(m) -> np.ndarray:
             True,
             {"criterion": "en", "loop_checks": 1, "transition_ratios": (0.2, 0.05, 0.1, 0.3)},
         ),
+        # a weighted criterion: every extra term in the objective row
+        (
+            True,
+            True,
+            {
+                "criterion": "tor=2,accel=0.5,jerk=0.3,head=0.3,impact=0.5,shear=0.4,pose=0.5,pelvis=0.5",
+                "heel_strike_nodes": 2,
+                "cop_margin": 0.02,
+            },
+        ),
         (False, True, {}),
         (False, False, {}),
     ],

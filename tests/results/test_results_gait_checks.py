@@ -1,6 +1,7 @@
 """The walking checks tell a two-humped, knee-flexing cycle from a flat, stiff-legged one."""
 
 import numpy as np
+import pytest
 
 from walk3d import G
 from walk3d.contact.phases import GaitPhases
@@ -48,3 +49,30 @@ def test_crouched_hip_fails_only_the_third_check():
     assert abs(crouched["hip_stance_max_deg"] - 65.0) < 1.0
     upright = walking_checks(_arrays(42.0, True, hip_stance_peak_deg=36.0), T, TD, MASS)
     assert upright["upright_stance"] and upright["looks_like_walking"]
+
+
+def test_roughness_is_the_share_above_the_third_harmonic():
+    from walk3d.results.gait_checks import roughness
+
+    t = np.linspace(0.0, 1.0, 101)
+    smooth = np.sin(2 * np.pi * t) + 0.5 * np.cos(6 * np.pi * t)
+    assert roughness(smooth) < 1e-20
+    rough = smooth + 0.5 * np.sin(10 * np.pi * t)  # 5th harmonic: 0.125 of 1.25 variance
+    assert roughness(rough) == pytest.approx(0.125 / (0.5 + 0.125 + 0.125))
+
+
+def test_realism_figures_read_peaks_ranges_and_width():
+    from walk3d.results.gait_checks import realism_figures
+
+    a = _arrays(60.0, True)
+    n = len(a["time"])
+    ori = np.zeros((n, 13, 4))
+    yaw = np.radians(5.0) * np.sin(2 * np.pi * a["time"] / T)  # ±5° rotation about y
+    ori[:, 0, 0], ori[:, 0, 2] = np.cos(yaw / 2), np.sin(yaw / 2)
+    ori[:, 1:, 0] = 1.0
+    a["segment_orientation"] = ori
+    f = realism_figures(a, MASS, 0.1)
+    assert f["peak_vertical_grf_bw"] == pytest.approx(a["grf_force"][:, 0, 1].max() / (MASS * G))
+    assert f["pelvis_rotation_range_deg"] == pytest.approx(10.0, abs=0.05)
+    assert f["pelvis_list_range_deg"] == pytest.approx(0.0, abs=1e-9)
+    assert f["step_width_m"] == 0.1

@@ -157,3 +157,13 @@ def test_trial_cycles_reproduce_the_eleven_trial_mean(falisse):
     for key, mean in ref.mean.items():
         err = np.sqrt(np.mean((mean - table.mean[key]) ** 2))
         assert err < limits[key.split(":")[0]], (key, err)
+
+
+def test_r_squared_is_one_for_a_perfect_fit_and_zero_for_the_mean():
+    from walk3d.validation.compare import r_squared
+
+    m = np.sin(np.linspace(0.0, 2 * np.pi, 101))
+    assert r_squared(m, m) == 1.0
+    assert abs(r_squared(np.full_like(m, m.mean()), m)) < 1e-12
+    assert r_squared(m + 1.0, m) < 0  # an offset explains less than the mean does
+    assert np.isnan(r_squared(m, np.ones_like(m)))  # a flat reference has no variance

@@ -18,6 +18,7 @@ from rich.table import Table
 
 from walk3d.campaign import store
 from walk3d.io._atomic import atomic_write_text
+from walk3d.problem import terms
 
 __all__ = ["COLUMNS", "order_records", "rank", "top_table", "update_best", "write_ranking"]
 
@@ -126,17 +127,19 @@ def _yes_no(value: Any) -> str:
 
 
 def top_table(rows: list[dict], criterion: str, n: int = 5, title: str | None = None) -> Table:
-    """A Rich table of the ``n`` best starts: chosen criterion with its x/y/z split."""
-    key = f"C_{criterion}"
+    """A Rich table of the ``n`` best starts: the chosen criterion, and the x/y/z split of its
+    base (C_tor or C_en)."""
+    key, split = terms.label(criterion), f"C_{terms.base(criterion)}"
     t = Table(title=title or f"best {min(n, len(rows))} of {len(rows)} starts by {key}")
-    for col in ("rank", "seed", "conv.", key, "x", "y", "z", "iter", "walking"):
+    xyz = ("x", "y", "z") if key == split else (f"{split} x", "y", "z")
+    for col in ("rank", "seed", "conv.", key, *xyz, "iter", "walking"):
         t.add_column(col)
     t.add_column("status", overflow="ellipsis", no_wrap=True, max_width=32)
     for row in rows[:n]:
         t.add_row(
             str(row["rank"]), str(row["seed"]), "yes" if row["converged"] else "no",
-            _fmt(row["criterion_value"]), _fmt(row[f"{key}_x"]), _fmt(row[f"{key}_y"]),
-            _fmt(row[f"{key}_z"]), "-" if row["iterations"] is None else str(row["iterations"]),
+            _fmt(row["criterion_value"]), _fmt(row[f"{split}_x"]), _fmt(row[f"{split}_y"]),
+            _fmt(row[f"{split}_z"]), "-" if row["iterations"] is None else str(row["iterations"]),
             _yes_no(row.get("looks_like_walking")), row["status"],
         )  # fmt: skip
     return t

@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from walk3d.campaign import store
+from walk3d.problem import terms
 from walk3d.problem.settings import flat_settings
 
 __all__ = ["error_record", "record_from_summary", "run_start"]
@@ -62,7 +63,7 @@ def record_from_summary(summary: dict, criterion: str, task_time_s: float) -> di
         "status": str(summary.get("status")),
         "converged": bool(summary.get("converged")),
         "criterion": criterion,
-        "criterion_value": _split(objective.get(f"C_{criterion}"))["total"],
+        "criterion_value": _split(objective.get(terms.label(criterion)))["total"],
         "iterations": summary.get("iterations"),
         "wall_time_s": summary.get("wall_time_s"),
         "task_time_s": round(task_time_s, 3),

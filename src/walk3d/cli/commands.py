@@ -35,6 +35,7 @@ from walk3d.cli.common import (
     fail,
     settings_from_options,
 )
+from walk3d.problem.terms import DEFAULT_PRESET
 
 
 @app.command()
@@ -140,7 +141,7 @@ def predict(
     mass: Mass = 68.8,
     height: Height = 1.77,
     sex: Sex = "male",
-    criterion: Criterion = "tor",
+    criterion: Criterion = DEFAULT_PRESET,
     seed: Annotated[int, typer.Option("--seed", help="Random start.", rich_help_panel=SOLVER)] = 0,
     solver: SolverName = "ipopt",
     nodes: Nodes = 20,
@@ -197,16 +198,23 @@ def predict(
         t.add_row("derivatives", f"compiled C ({', '.join(comp)})" if comp else
                   "CasADi VM (run `walk3d compile` once for faster solves)")  # fmt: skip
         t.add_row("linear algebra", f"{settings.solver.linear_solver.upper()} on {s['blas']}")
-    for key in ("C_tor", "C_en"):
-        c = s["objective"][key]
-        t.add_row(key, f"{c['total']:.4g}  (x {c['x']:.3g}, y {c['y']:.3g}, z {c['z']:.3g})")
+    objective_rows(t, s["objective"], settings.model.criterion)
     t.add_row(
         "stride length", f"{s['stride_length_m']:.4f} m (target {s['stride_length_target_m']:.4f})"
     )
     t.add_row("step width", f"{s['step_width_m']:.3f} m")
     t.add_row("contact residual", f"{1000 * s['double_support_contact_residual_m']:.3f} mm")
-    t.add_row("max constraint violation", f"{s['max_constraint_violation']:.2e}")
+    t.add_row("max constraint violation", f"{s['max_constraint_violation']:.2e} (at the nodes)")
+    w = s["cycle_violations"]["worst"]
+    t.add_row("on the 101-sample cycle", f"worst {w['kind']} {w['value']:.3g} (limit "
+              f"{w['limit']:g}: {'holds' if w['holds'] else 'EXCEEDED'})")  # fmt: skip
     g = s["gait_checks"]
+    realism = (
+        f"peak Fy {g['peak_vertical_grf_bw']:.2f} BW, pelvis rotation "
+        f"{g['pelvis_rotation_range_deg']:.0f} deg, list {g['pelvis_list_range_deg']:.0f} deg, "
+        f"roughness {g['roughness_worst']:.2f} ({g['roughness_worst_dof']})"
+    )
+    t.add_row("realism", realism)
     t.add_row(
         "looks like walking",
         f"{'yes' if g['looks_like_walking'] else 'no'} (knee {g['knee_swing_max_deg']:.0f} deg in "
@@ -218,6 +226,26 @@ def predict(
         raise typer.Exit(1)
 
 
+def objective_rows(t: Table, objective: dict, criterion: str) -> None:
+    """The criterion rows of the predict table: the minimized one first (with its weights),
+    then every term with its x/y/z split."""
+    from walk3d.problem import terms
+
+    w = objective.get("C_weighted")
+    if terms.label(criterion) == "C_weighted" and w:
+        name = terms.preset_name(criterion)
+        t.add_row(
+            "criterion",
+            f"{w['total']:.4g} = "
+            + " + ".join(f"{v:g}·C_{k}" for k, v in w["weights"].items())
+            + (f" (preset {name})" if name else ""),
+        )
+    for key in ("C_tor", "C_en", *(f"C_{k}" for k in terms.EXTRAS)):
+        c = objective.get(key)
+        if c:
+            t.add_row(key, f"{c['total']:.4g}  (x {c['x']:.3g}, y {c['y']:.3g}, z {c['z']:.3g})")
+
+
 @app.command(name="compile")
 def compile_model(
     speed: Speed = 1.3806,
@@ -226,7 +254,7 @@ def compile_model(
     mass: Mass = 68.8,
     height: Height = 1.77,
     sex: Sex = "male",
-    criterion: Criterion = "tor",
+    criterion: Criterion = DEFAULT_PRESET,
     nodes: Nodes = 20,
     calibration: CalibrationFile = None,
 ) -> None:
@@ -272,7 +300,7 @@ def cache_info(
 def campaign(
     starts: Annotated[int, typer.Option("--starts", help="Number of random starts.")],
     out: Annotated[str, typer.Option("--out", help="Campaign folder (created or resumed).")],
-    criterion: Criterion = "tor",
+    criterion: Criterion = DEFAULT_PRESET,
     seed: Annotated[
         int, typer.Option("--seed", help="Base seed: start k uses seed+k.", rich_help_panel=SOLVER)
     ] = 0,

@@ -41,7 +41,16 @@ DoubleSupport = Annotated[
     float,
     typer.Option("--double-support", help="Double-support duration Td, s.", rich_help_panel=GAIT),
 ]
-Criterion = Annotated[str, typer.Option("--criterion", help="tor or en.", rich_help_panel=MODEL)]
+Criterion = Annotated[
+    str,
+    typer.Option(
+        "--criterion",
+        help="natural (the preset: effort plus smoothness, impact, arm pose and pelvis terms), "
+        "tor or en (the paper's), weights like 'tor=1,accel=0.5,head=0.1', or a TOML file of "
+        "weights (docs/criteria.md).",
+        rich_help_panel=MODEL,
+    ),
+]
 SolverName = Annotated[
     str,
     typer.Option(
@@ -154,12 +163,30 @@ def check_output_folder(path: str, option: str = "--out") -> None:
         fail(f"{option} {path} cannot be written ({base}: {why})")
 
 
+def criterion_option(value: str) -> str:
+    """``--criterion``: a TOML file's weights inline, or the value itself; one line and exit 2
+    when the file cannot be read or the criterion is not valid."""
+    from walk3d.io.criterion import read_criterion
+    from walk3d.io.errors import DataFileError
+    from walk3d.problem import terms
+
+    if value.lower().endswith(".toml"):
+        try:
+            value = read_criterion(value)
+        except DataFileError as exc:
+            fail(f"--criterion {exc}")
+    try:
+        return terms.canonical(value)
+    except ValueError as exc:
+        fail(f"--criterion: {exc}")
+    raise AssertionError  # fail() exits
+
+
 def settings_from_options(criterion: str, solver: str, seed: int, **fields):
     """Validated PredictionSettings from command-line values, or one error line and exit 2."""
     from walk3d.problem.settings import PredictionSettings, first_error
 
-    if criterion not in ("tor", "en"):
-        fail(f"--criterion must be 'tor' or 'en', got {criterion!r}")
+    criterion = criterion_option(criterion)
     if solver not in ("ipopt", "sqp"):
         fail(f"--solver must be 'ipopt' or 'sqp', got {solver!r}")
     if seed < 0:

@@ -41,12 +41,19 @@ def foot_points(pose, segment: int, local: np.ndarray) -> list[qt.V]:
 
 
 def support_rows(
-    wrench, points: list[qt.V], side: str, weight: float, mu: float, radius: float
+    wrench,
+    points: list[qt.V],
+    side: str,
+    weight: float,
+    mu: float,
+    radius: float,
+    margin: float = 0.0,
 ) -> list[Any]:
     """Six rows that are ``≥ 0`` when the wrench acts inside the foot (see module doc).
 
     ``points`` are the global heel, toe, met1 and met5 of the foot; ``side`` orders the
-    metatarsals medio-laterally (global +z is the walker's right).
+    metatarsals medio-laterally (global +z is the walker's right). ``margin`` (m) keeps the
+    centre of pressure that far inside the heel and the toe.
     """
     f, m = wrench
     heel, toe, met1, met5 = points
@@ -55,8 +62,8 @@ def support_rows(
     torque_fy = m[1] * fy + m[0] * f[0] + m[2] * f[2]
     w2 = weight * weight
     return [
-        (m[2] - heel[0] * fy) / weight,
-        (toe[0] * fy - m[2]) / weight,
+        (m[2] - (heel[0] + margin) * fy) / weight,
+        ((toe[0] - margin) * fy - m[2]) / weight,
         (-m[0] - z_lo * fy) / weight,
         (z_hi * fy + m[0]) / weight,
         (mu * radius * fy * fy - torque_fy) / w2,

@@ -90,7 +90,7 @@ def bounds(
         if sch.double_support[k]:
             glo[k, loop], ghi[k, loop] = 0.0, 0.0
         if sch.swing[k]:
-            glo[k, R["other_points_y"]] = 0.0
+            glo[k, R["other_points_y"]] = settings.model.swing_clearance
         if per_foot and sch.double_support[k]:  # (constant zero rows in the first stage:
             # bounding them would pin IPOPT's slacks at their bounds)
             glo[k, R["other_force"].start] = 0.0

@@ -48,8 +48,8 @@ class NlpPieces:
     hs_rows: slice
     hs_map: np.ndarray
     """(6, 6) linear map from the heel-strike rows of node 0 to the trailing foot's load."""
-    weight: float
-    """Objective = ``weight · Σ_k f_k[crit]``."""
+    weight: float | np.ndarray
+    """Objective = ``Σ_k weight_k · f_k[crit]`` (one weight for every node, or one per node)."""
     crit: int
     layout: layout.NlpLayout
     """The blocks of ``z`` and ``g``."""
@@ -57,6 +57,9 @@ class NlpPieces:
     x: ca.MX
     threads: int = 1
     """Threads for the mapped node derivatives (``settings.solver.threads``)."""
+    quad: np.ndarray | None = None
+    """(N_X,) ``q`` of an objective part ``Σ q_i x_i²`` on the coefficients (the jerk term),
+    or None."""
     node_derivs: NodeDerivs | None = None
     """``(jac, grad, hess)`` of the mapped node function, if built elsewhere (compiled C, from
     :func:`derivative_chunks`; ``hess`` may be the list of its column blocks, then mapped by
@@ -255,9 +258,15 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
 
     # gradient of the objective
     grad = _Scatter((n_z, 1))
+    w = np.broadcast_to(np.asarray(pc.weight, dtype=float), (n,))
+    uniform = np.ndim(pc.weight) == 0
     for k, (nz, r, _) in enumerate(_per_node(gf0, gfr, dn.sparsity_out(0), n)):
-        grad.add(pc.weight * nz, cols[k][r], np.zeros(len(r), dtype=int))
+        grad.add((pc.weight if uniform else float(w[k])) * nz, cols[k][r],
+                 np.zeros(len(r), dtype=int))  # fmt: skip
     grad.add_const(np.arange(n_z), np.zeros(n_z, dtype=int), np.zeros(n_z))
+    iq = np.flatnonzero(pc.quad) if pc.quad is not None else np.zeros(0, dtype=int)
+    if iq.size:
+        grad.add(2 * ca.DM(pc.quad[iq]) * pc.x[iq.tolist()], iq, np.zeros(iq.size, dtype=int))
 
     # Hessian of the Lagrangian: node 0 also carries the heel-strike rows (through hs_map)
     rows_nodes, rows_hs = lay.g("node"), lay.g("hs")
@@ -267,14 +276,20 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     lam0 = lam_nodes[:, 0] + ca.vertcat(
         ca.MX(hs.start, 1), ca.mtimes(ca.DM(pc.hs_map).T, lam_hs), ca.MX(layout.N_G - hs.stop, 1)
     )
-    sf = pc.weight * lam_f
-    H0 = h0(v0, ca.DM(pc.params[:, 0]), sf, lam0)
-    Hr = mapped(hn)(vr, pr, ca.repmat(sf, 1, n - 1), lam_nodes[:, 1:])
+    if uniform:
+        sf = pc.weight * lam_f
+        sf0, sfr = sf, ca.repmat(sf, 1, n - 1)
+    else:
+        sf0, sfr = float(w[0]) * lam_f, ca.DM(w[1:]).T * lam_f
+    H0 = h0(v0, ca.DM(pc.params[:, 0]), sf0, lam0)
+    Hr = mapped(hn)(vr, pr, sfr, lam_nodes[:, 1:])
     hess = _Scatter((n_z, n_z))
     for k, (nz, r, c) in enumerate(_per_node(H0, Hr, h_one.sparsity_out(0), n)):
         gr, gc = cols[k][r], cols[k][c]
         keep = gr <= gc  # upper triangle in z's order (node order differs: hw comes first)
         hess.add(nz[np.flatnonzero(keep).tolist()], gr[keep], gc[keep])
+    if iq.size:
+        hess.add(2 * lam_f * ca.DM(pc.quad[iq]), iq, iq)
     if hess_extra is not None:
         rx, cx = _triplets(hess_extra.sparsity())
         hess.add(hess_extra.nz[:], rx, cx)

@@ -29,7 +29,7 @@ from walk3d import G
 from walk3d.body.model import BodyModel
 from walk3d.contact.support import foot_points, support_rows
 from walk3d.contact.transition import apply_ratios
-from walk3d.problem import layout
+from walk3d.problem import layout, terms
 from walk3d.problem.criteria import POWER_SCALE_W, node_terms
 from walk3d.problem.derivatives import NlpPieces, NodeDerivs, derivative_functions
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
@@ -92,7 +92,7 @@ def signed_terms(body: BodyModel, model: ModelSettings, st: GaitState):
     moments, rates, _ = dof_moment_terms(body, st)
     pos = np.concatenate([j.strength_pos for j in body.joints])
     neg = np.concatenate([j.strength_neg for j in body.joints])
-    if model.criterion == "tor":
+    if terms.base(model.criterion) == "tor":
         return [m / pos[i] for i, m in enumerate(moments)], [
             -m / neg[i] for i, m in enumerate(moments)
         ]
@@ -147,11 +147,12 @@ def _support(body: BodyModel, model: ModelSettings, st: GaitState, per_foot: boo
     wf, mu, r = body.mass * G, model.friction, model.free_moment_radius
     pts = {s: foot_points(st.pose, body.segment_index(f"foot_{s}"), body.foot.points(s))
            for s in ("r", "l")}  # fmt: skip
-    rows = support_rows(st.feet["r"], pts["r"], "r", wf, mu, r)
+    d = model.cop_margin
+    rows = support_rows(st.feet["r"], pts["r"], "r", wf, mu, r, d)
     if per_foot:
-        return rows + support_rows(st.feet["l"], pts["l"], "l", wf, mu, r)
+        return rows + support_rows(st.feet["l"], pts["l"], "l", wf, mu, r, d)
     both = [pts["l"][0], pts["r"][1], pts["l"][3], pts["r"][3]]
-    return rows + support_rows(st.total, both, "r", wf, mu, r)
+    return rows + support_rows(st.total, both, "r", wf, mu, r, d)
 
 
 def node_function(
@@ -207,6 +208,14 @@ def node_function(
         f = [total, total * POWER_SCALE_W / EN_SCALE]
     else:
         g += [0.0] * (2 * N_T)
+    weights = terms.parse(model.criterion)
+    extra = terms.extras(model.criterion)
+    if dynamics and (extra or weights[terms.base(model.criterion)] != 1.0):
+        k = criterion_row(model)
+        it = terms.integrands(body, _unpack_coords(yl, p[2]), st.pose, st.total[0])
+        f[k] = weights[terms.base(model.criterion)] * f[k] + terms.weighted(extra, it) * row_scale(
+            model
+        )
     g += _support(body, model, st, per_foot)
     return ca.Function("walk3d_node", [y, w0, hw, p, t], [ca.vertcat(*g), ca.vertcat(*f)])
 
@@ -221,6 +230,27 @@ def loop_function(body: BodyModel, model: ModelSettings) -> ca.Function:
     st = state_at(body, y, [zero] * 6, hw, 0.0, ax, 1.0, dynamics=False, balance=False)
     rows = list(st.loop_position) + list(st.loop_orientation)
     return ca.Function("walk3d_loop", [c, hw, ax], [ca.vertcat(*rows)])
+
+
+def criterion_row(model: ModelSettings) -> int:
+    """The row of the node function's ``f`` that the NLP minimizes: 0 for a criterion built on
+    C_tor, 1 on C_en (its extra terms, :mod:`walk3d.problem.terms`, are added to that row)."""
+    return 0 if terms.base(model.criterion) == "tor" else 1
+
+
+def row_scale(model: ModelSettings) -> float:
+    """What the objective row holds per unit of the reported weighted criterion: 1 on C_tor,
+    ``1 / EN_SCALE`` on C_en (that row is C_en in units of EN_SCALE J)."""
+    return 1.0 if criterion_row(model) == 0 else 1.0 / EN_SCALE
+
+
+def jerk_weights(settings: PredictionSettings) -> np.ndarray | None:
+    """``q`` (N_X,) with the objective's jerk part ``Σ q_i x_i²`` (weight and row scale
+    included), or None without a jerk term."""
+    w = terms.extras(settings.model.criterion).get("jerk")
+    if not w:
+        return None
+    return w * row_scale(settings.model) * terms.coefficient_weights(settings.gait.period)
 
 
 STAGES = {"posture": (False, False), "balance": (False, True), "full": (True, True)}
@@ -306,8 +336,15 @@ def build_nlp(
     gk, fk = ca.horzcat(g0, gr), ca.horzcat(f0, fr)
     hs_map = _hs_map(ratios_for(settings.model))  # calibrated Eqs. 7–8 for the trailing (left) foot
     g_hs = ca.mtimes(ca.DM(hs_map), g0[G_ROWS["hs_wrench"]]) - w0
-    crit = 0 if settings.model.criterion == "tor" else 1
-    f = 2.0 * sch.step * ca.sum2(fk[crit, :])
+    crit = criterion_row(settings.model)
+    weight = 2.0 * sch.step if sch.weights is None else 2.0 * sch.weights
+    if sch.weights is None:
+        f = weight * ca.sum2(fk[crit, :])
+    else:
+        f = ca.mtimes(fk[crit, :], ca.DM(weight))
+    quad = jerk_weights(settings) if dynamics else None
+    if quad is not None:
+        f = f + ca.dot(ca.DM(quad), x * x)
     z = ca.vertcat(x, ca.vec(ys), w0, ca.vec(ts))
     range_np = range_rows(body, settings)[0]
     range_mat = ca.sparsify(ca.DM(range_np))
@@ -327,9 +364,9 @@ def build_nlp(
         lay = layout.NlpLayout(n_nodes, range_np.shape[0], g_loop.numel())
         pieces = NlpPieces(z=z, f=f, g=g, node0=node0, node=node, params=np.asarray(params),
                            lift=lift, range_mat=range_np, hs_rows=G_ROWS["hs_wrench"],
-                           hs_map=hs_map, weight=2.0 * sch.step, crit=crit, layout=lay,
+                           hs_map=hs_map, weight=weight, crit=crit, layout=lay,
                            g_loop=g_loop, x=x, threads=settings.solver.threads,
-                           node_derivs=node_derivs)  # fmt: skip
+                           node_derivs=node_derivs, quad=quad)  # fmt: skip
         prob["derivatives"] = derivative_functions(pieces)
     return prob, sch, lift
 

@@ -20,6 +20,8 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, field_validator, model_validator
 
+from walk3d.problem import terms
+
 __all__ = ["GaitSettings", "ModelSettings", "PredictionSettings", "SolverSettings",
            "available_cores", "body_for", "first_error", "flat_settings", "ratios_for",
            "recorded_settings"]  # fmt: skip
@@ -81,13 +83,21 @@ class ModelSettings(_Group):
     constraints. Lengths are at the reference stature (1.77 m) and scale with the subject's
     (:mod:`walk3d.problem.similarity`)."""
 
-    criterion: Literal["tor", "en"] = "tor"
-    """C_tor (normalized joint torque) or C_en (mechanical energy), the paper's two."""
+    criterion: str = "tor"
+    """C_tor (normalized joint torque), C_en (mechanical energy), the paper's two, or a weighted
+    criterion (:mod:`walk3d.problem.terms`), stored in canonical form (presets expanded)."""
     friction: float = 0.8
     """Foot-floor friction coefficient for |Fx|/Fy and |Fz|/Fy (rubber sole on a lab floor)."""
     free_moment_radius: float = 0.02
     """Torsional radius of the sole, m: ``|free moment| ≤ friction × r × Fy``
     (:mod:`walk3d.contact.support`); 2 cm allows about 11 N·m at body weight."""
+    cop_margin: float = 0.0
+    """How far inside the heel and the toe the NLP keeps each foot's centre of pressure at its
+    nodes, m. The cycle between the nodes is judged against the whole foot
+    (:mod:`walk3d.results.violations`), so a margin leaves room for the motion between nodes."""
+    swing_clearance: float = 0.0
+    """Least height of the swing foot's heel, toe and metatarsal heads at the NLP's swing nodes,
+    m (the floor is 0): room for the foot's path between nodes."""
     min_ankle_separation: float = 0.06
     """Least lateral distance between the ankle joint centres, m: the feet must not cross."""
     foot_flat_tolerance: float = math.radians(3.0)
@@ -115,10 +125,19 @@ class ModelSettings(_Group):
     """Calibrated ``(μ_x, μ_z, ϖ_x, ϖ_y)`` of Eqs. 7–8 (right-foot signs). None: read at heel
     strike from the total reaction (:mod:`walk3d.contact.transition`)."""
 
+    @field_validator("criterion")
+    @classmethod
+    def _criterion(cls, v: str) -> str:
+        return terms.canonical(v)
+
     @model_validator(mode="after")
     def _ranges(self) -> ModelSettings:
         self._check([
             (0 < self.friction <= 2, f"friction must be in (0, 2], got {self.friction}"),
+            (0 <= self.cop_margin <= 0.05,
+             f"cop_margin must be in [0, 0.05] m, got {self.cop_margin}"),
+            (0 <= self.swing_clearance <= 0.05,
+             f"swing_clearance must be in [0, 0.05] m, got {self.swing_clearance}"),
             (0 <= self.free_moment_radius <= 0.1,
              f"free-moment radius must be in [0, 0.1] m, got {self.free_moment_radius}"),
             (0 < self.smoothing < 0.1, f"smoothing must be in (0, 0.1), got {self.smoothing}"),
@@ -135,6 +154,9 @@ class SolverSettings(_Group):
 
     nodes: int = 20
     """Time nodes per half cycle; by symmetry the criteria integrate over ``2 * nodes``."""
+    heel_strike_nodes: int = 0
+    """Extra nodes inside the first interval after heel strike (:mod:`walk3d.problem.schedule`
+    says why), where the leading foot's load starts."""
     derivatives: Literal["structured", "casadi"] = "structured"
     """Exact derivatives assembled from per-node blocks (:mod:`walk3d.problem.derivatives`,
     several times cheaper) or CasADi's sweeps through the whole NLP (same values)."""
@@ -184,6 +206,11 @@ class SolverSettings(_Group):
     restarts: int = 1
     """How often a start that did not converge is tried again from a new standing start (the
     seed's next noise stream). 0: one try, as in the paper."""
+    reject_crouch: bool = True
+    """Treat a converged full stage that flexes the hip more than 45° in stance (a crouched
+    local optimum, :mod:`walk3d.solve.upright`) as not converged while a retry or restart is
+    left, so that the start is tried again. The last try's optimum is kept whatever its
+    posture, and labelled by ``gait_checks``."""
 
     @field_validator("balance_progress_check", mode="before")
     @classmethod
@@ -199,6 +226,8 @@ class SolverSettings(_Group):
                   self.full_max_iter)  # fmt: skip
         self._check([
             (6 <= self.nodes <= 200, f"nodes must be in [6, 200], got {self.nodes}"),
+            (0 <= self.heel_strike_nodes <= 8,
+             f"heel_strike_nodes must be in [0, 8], got {self.heel_strike_nodes}"),
             (0 <= self.loop_checks <= 4, f"loop checks must be in [0, 4], got {self.loop_checks}"),
             (0 < self.loop_check_tolerance <= 0.05,
              f"loop check tolerance must be in (0, 0.05], got {self.loop_check_tolerance}"),

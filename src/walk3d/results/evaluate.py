@@ -12,17 +12,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from walk3d import G
 from walk3d.body.model import BodyModel
 from walk3d.contact.phases import GaitPhases
 from walk3d.contact.transition import apply_ratios, centre_of_pressure
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import point_triple, root_foot_triples, stack_q, stack_v
-from walk3d.problem import layout
+from walk3d.problem import layout, terms
 from walk3d.problem.criteria import node_terms, split_by_axis
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
+from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.settings import PredictionSettings, ratios_for
 from walk3d.results.angles import ball_joint_angles
 from walk3d.results.prediction import Prediction
+from walk3d.results.violations import block_violations, range_excess_deg, summarize_violations
 
 
 @dataclass(frozen=True)
@@ -34,6 +37,8 @@ class CycleEvaluation:
     continuity_residual_m: float
     stride_length_m: float
     step_width_m: float
+    cycle_violations: dict
+    """Worst constraint excess per kind on the evaluated samples (:mod:`.violations`)."""
 
 
 def _coords(x: np.ndarray, t: np.ndarray, period: float) -> list[tuple]:
@@ -132,6 +137,8 @@ def evaluate_cycle(
     dof_w = np.zeros((n, 24))
     contact = 0.0
     axes = None
+    extra = {name: np.zeros((n, 3)) for name in terms.EXTRAS if name != "jerk"}
+    viol: list[dict[str, float]] = []
     for root, idx in blocks.items():
         if idx.size == 0:
             continue
@@ -150,10 +157,14 @@ def evaluate_cycle(
         m, w, axes = dof_moment_terms(body, st)
         dof_m[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in m])
         dof_w[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in w])
+        coords_b = _coords(x, tb, T)
+        for name, parts in terms.integrands(body, coords_b, st.pose, st.total[0]).items():
+            extra[name][idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in parts])
         ds = ph.double_support_mask(tb) & (
             ph.time_since_heel_strike(tb) <= settings.gait.double_support
         )
         contact = max(contact, _contact_residual(body, st, x, tb, settings, ph, ds))
+        viol.append(block_violations(body, settings.model, st, body.mass * G, ds))
     # continuity at the switch of root (left heel strike): pelvis from either root
     t_sw = np.array([ph.heel_strike_l])
     p_r = stack_v(_state(body, settings, ph, x, t_sw, "r", w0=w0["r"]).pose.origin[0][0])
@@ -172,7 +183,15 @@ def evaluate_cycle(
         tor_i = np.array([np.sum(v[periodic]) * dt for v in tor])
         en_i = np.array([np.sum(v[periodic]) * dt for v in en])
         crit[name] = {"C_tor": split_by_axis(tor_i, axes), "C_en": split_by_axis(en_i, axes)}
+        for term, v in extra.items():
+            crit[name][f"C_{term}"] = split_by_axis(np.sum(v[periodic], axis=0) * dt, [0, 1, 2])
+        crit[name]["C_jerk"] = split_by_axis(terms.jerk_per_dof(x, T), axes)
+        crit[name]["C_weighted"] = weighted_total(settings.model.criterion, crit[name])
     coords = _coords(x, t, T)
+    coord_angles = np.column_stack([2 * np.arcsin(np.clip(c[0], -1, 1)) for c in coords[:24]])
+    violations = summarize_violations(
+        viol, range_excess_deg(coord_angles, joint_ranges(body, settings))
+    )
     arrays = {
         "time": t,
         "segment_names": body.segment_names,
@@ -198,7 +217,16 @@ def evaluate_cycle(
         continuity_residual_m=continuity,
         stride_length_m=float(np.sum(pelvis_vx[periodic]) * dt),
         step_width_m=2 * float(x[layout.I_HALF_STEP]),
+        cycle_violations=violations,
     )
+
+
+def weighted_total(criterion: str, values: dict) -> dict:
+    """The criterion as minimized: ``{"total", "weights", and per term its weighted part}`` from
+    the per-term values ``values`` (``{"C_tor": {"total": ...}, ...}``)."""
+    weights = terms.parse(criterion)
+    parts = {k: w * values[f"C_{k}"]["total"] for k, w in weights.items()}
+    return {"total": float(sum(parts.values())), "weights": weights, "parts": parts}
 
 
 def make_prediction(arrays: dict, summary: dict) -> Prediction:

@@ -67,3 +67,36 @@ def walking_checks(arrays: dict, period: float, double_support: float, mass: flo
         "issue_checks": issue,
         "looks_like_walking": issue and upright,
     }
+
+
+def roughness(y: np.ndarray) -> float:
+    """Share of a periodic signal's variance above its 3rd harmonic (``y`` over one cycle, the
+    last sample repeating the first): 0 for a signal made of harmonics 1–3 alone."""
+    c = np.fft.rfft(y[:-1] - np.mean(y[:-1]))
+    p = np.abs(c) ** 2
+    total = float(p[1:].sum())
+    return float(p[4:].sum() / total) if total > 1e-18 else 0.0
+
+
+def realism_figures(arrays: dict, mass: float, step_width_m: float) -> dict:
+    """Figures of human-likeness that need no measured reference (issue #23): peak vertical
+    ground reaction under one foot and under both, in body weights; pelvis tilt, list and
+    rotation ranges, deg; step width, m; and the largest share of a joint angle's variance
+    above the 3rd harmonic (:func:`roughness`) with its DoF."""
+    from walk3d.results.angles import pelvis_angles
+
+    force = np.asarray(arrays["grf_force"])[:, :, 1] / (mass * G)
+    pelvis = np.degrees(pelvis_angles(np.asarray(arrays["segment_orientation"])[:, 0, :]))
+    angles = np.asarray(arrays["joint_angle"])
+    rough = {str(n): roughness(angles[:, i]) for i, n in enumerate(arrays["dof_names"])}
+    worst = max(rough, key=rough.get)
+    return {
+        "peak_vertical_grf_bw": float(np.nanmax(force)),
+        "peak_total_vertical_grf_bw": float(np.nanmax(np.nansum(force, axis=1))),
+        "pelvis_tilt_range_deg": float(np.ptp(pelvis[:, 0])),
+        "pelvis_list_range_deg": float(np.ptp(pelvis[:, 1])),
+        "pelvis_rotation_range_deg": float(np.ptp(pelvis[:, 2])),
+        "step_width_m": float(step_width_m),
+        "roughness_worst": rough[worst],
+        "roughness_worst_dof": worst,
+    }

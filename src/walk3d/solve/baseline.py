@@ -38,7 +38,7 @@ class _Dense:
         self.n = sv.schedule.n
         self.fn = node.map(self.n)
         self.params = nlp.node_params(settings, sv.schedule)
-        self.crit = 0 if settings.model.criterion == "tor" else 1
+        self.crit = nlp.criterion_row(settings.model)
         self.step = sv.schedule.step
         b = sv.bounds if dynamics else sv.bounds_balance
         n_lift = self.n * nlp.N_Y
@@ -74,7 +74,9 @@ class _Dense:
         g, f = np.array(g), np.array(f)
         hs = g[nlp.G_ROWS["hs_wrench"], 0] - x[layout.N_X :]
         g = np.r_[g.T.ravel(), self.range_mat @ x[: layout.N_X], self._loop(x)]
-        return g, 2.0 * self.step * float(np.sum(f[self.crit])), hs, y.T.ravel()
+        w = self.sv.schedule.weights
+        total = self.step * np.sum(f[self.crit]) if w is None else np.sum(w * f[self.crit])
+        return g, 2.0 * float(total), hs, y.T.ravel()
 
     def objective(self, x):
         return self._eval(x)[1]

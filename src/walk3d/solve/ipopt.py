@@ -17,6 +17,7 @@ import numpy as np
 
 from walk3d.problem import layout, similarity
 from walk3d.problem.settings import PredictionSettings
+from walk3d.solve import upright
 from walk3d.solve.plan import END, SUCCESS, Stage, run_plan
 from walk3d.solve.progress import Listener, StopRule, bound_violation
 from walk3d.solve.solver import Solver, build_solver
@@ -135,6 +136,16 @@ def _run(
     return zz, info
 
 
+def _reject_crouch(solver: Solver, z: np.ndarray, record: dict, note) -> None:
+    """Relabel a crouched optimum as not converged (``settings.solver.reject_crouch``)."""
+    if not solver.settings.solver.reject_crouch or not upright.crouched(z, solver.layout):
+        return
+    hip = upright.stance_hip_flexion_deg(z, solver.layout)
+    record["optimum_status"], record["status"] = record["status"], upright.CROUCHED
+    record["stance_hip_flexion_deg"] = hip
+    note(f"the optimum is crouched (hip flexed {hip:.0f} deg in stance): trying again")
+
+
 def solve(
     settings: PredictionSettings,
     seed: int = 0,
@@ -173,6 +184,9 @@ def solve(
             )
         stop = (lambda it, _f, viol: stage.stops(it, viol)) if stage.checks else None
         ends["previous"], record = _run(fn, solver, z0, stage.name, stage.problem, listener, stop)
+        again = stage.on_failure != END or attempt < ref.solver.restarts
+        if stage.problem == "full" and record["status"] in SUCCESS and again:
+            _reject_crouch(solver, ends["previous"], record, note)
         return record
 
     result = run_plan(solver.plan, ref.solver.restarts, run_stage, note)

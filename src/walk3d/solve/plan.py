@@ -20,6 +20,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
+from walk3d.problem import terms
 from walk3d.problem.settings import SolverSettings
 
 __all__ = ["END", "SUCCESS", "Plan", "Stage", "default_plan", "run_plan"]
@@ -113,7 +114,7 @@ def default_plan(solver: SolverSettings, criterion: str = "tor") -> Plan:
     attempt while a restart is left: the full stage after it seldom converged.
     """
     limit = solver.max_iter
-    crit = f"C_{criterion}"
+    crit = terms.label(criterion)
     full = dict(problem="full", start="criterion", max_iter=min(limit, solver.full_max_iter),
                 title=f"stage 2/2: minimizing {crit}", label=f"stage 2/2 ({crit})")  # fmt: skip
     balance_title = "stage 1/2: balance (walking posture, total reaction under the feet)"

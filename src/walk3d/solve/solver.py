@@ -207,7 +207,7 @@ def _chunk_names(kind: str) -> list[str]:
 
 
 def _crit(settings: PredictionSettings) -> int:
-    return 0 if settings.model.criterion == "tor" else 1  # as in nlp.build_nlp
+    return nlp.criterion_row(settings.model)
 
 
 def _chunk_functions(settings: PredictionSettings, fns: dict[str, ca.Function],

@@ -27,7 +27,7 @@ from walk3d.trials.events import detect_contacts
 from walk3d.validation.quantities import QUANTITIES, Quantity, prediction_series
 from walk3d.validation.reference import N_PERCENT, Reference
 
-__all__ = ["Comparison", "Row", "align_prediction", "compare", "cycle_timing", "rmse"]
+__all__ = ["Comparison", "Row", "align_prediction", "compare", "cycle_timing", "r_squared", "rmse"]
 
 
 @dataclass(frozen=True)
@@ -43,6 +43,17 @@ class Row:
     """Mean SD of the reference over the cycle (NaN when unknown): the scale of the measured
     variability against which the RMSE can be read."""
     n_cycles: int | None
+    reference_range: float = float("nan")
+    """Peak-to-peak of the reference mean over the cycle (NaN when missing)."""
+    r2: float = float("nan")
+    """Coefficient of determination ``1 − Σ(p − m)² / Σ(m − m̄)²`` (the prediction as a model of
+    the reference mean; negative when it explains less than the reference's own mean)."""
+
+    @property
+    def rmse_of_range(self) -> float:
+        """RMSE as a fraction of the reference's range."""
+        ok = np.isfinite(self.reference_range) and self.reference_range > 0
+        return self.rmse / self.reference_range if ok else float("nan")
 
 
 @dataclass(frozen=True)
@@ -75,6 +86,14 @@ def _pearson(a: np.ndarray, b: np.ndarray) -> float:
     if a.size < 3 or np.ptp(a) == 0 or np.ptp(b) == 0:
         return float("nan")
     return float(np.corrcoef(a, b)[0, 1])
+
+
+def r_squared(p: np.ndarray, m: np.ndarray) -> float:
+    """``1 − Σ(p − m)² / Σ(m − m̄)²`` over samples where both are finite (NaN if none vary)."""
+    p, m = np.asarray(p, float), np.asarray(m, float)
+    ok = np.isfinite(p) & np.isfinite(m)
+    ss = float(np.sum((m[ok] - m[ok].mean()) ** 2)) if ok.sum() > 2 else 0.0
+    return 1.0 - float(np.sum((p[ok] - m[ok]) ** 2)) / ss if ss > 0 else float("nan")
 
 
 def cycle_timing(pred: Prediction) -> tuple[float, float]:
@@ -119,7 +138,7 @@ def compare(pred: Prediction, reference: Reference, name: str = "prediction") ->
         p, m = predicted[q.key], reference.mean[q.key]
         sd = reference.sd.get(q.key)
         sd_mean = float(np.nanmean(sd)) if sd is not None and np.isfinite(sd).any() else np.nan
-        rows.append(
-            Row(q, rmse(p, m), _pearson(p, m), "ok", sd_mean, reference.n_cycles.get(q.key))
-        )
+        span = float(np.nanmax(m) - np.nanmin(m)) if np.isfinite(m).any() else np.nan
+        rows.append(Row(q, rmse(p, m), _pearson(p, m), "ok", sd_mean,
+                        reference.n_cycles.get(q.key), span, r_squared(p, m)))  # fmt: skip
     return Comparison(name, reference, percent, predicted, tuple(rows))

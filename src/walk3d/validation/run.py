@@ -106,20 +106,32 @@ def sort_references(paths: Sequence[str | PathLike[str]]) -> tuple[list[Path], l
 def table2_rows(comparisons: Sequence[Comparison]) -> tuple[tuple[str, ...], list[dict]]:
     """Columns and rows of Table 2 for one or several predictions (same reference)."""
     single = len(comparisons) == 1
-    cols = ["group", "quantity", "label", "unit", "status", "n_cycles", "reference_sd"]
+    cols = [
+        "group",
+        "quantity",
+        "label",
+        "unit",
+        "status",
+        "n_cycles",
+        "reference_sd",
+        "reference_range",
+    ]
     for c in comparisons:
-        cols += ["rmse", "r"] if single else [f"rmse_{c.prediction_name}", f"r_{c.prediction_name}"]
+        suffix = "" if single else f"_{c.prediction_name}"
+        cols += [f"{k}{suffix}" for k in ("rmse", "rmse_of_range", "r", "r2")]
     rows = []
     for k, row in enumerate(comparisons[0].rows):
         q = row.quantity
         out = {
             "group": q.group, "quantity": q.name, "label": q.label, "unit": q.unit,
             "status": row.status, "n_cycles": row.n_cycles, "reference_sd": row.reference_sd,
+            "reference_range": row.reference_range,
         }  # fmt: skip
         for c in comparisons:
             r = c.rows[k]
             suffix = "" if single else f"_{c.prediction_name}"
             out[f"rmse{suffix}"], out[f"r{suffix}"] = r.rmse, r.r
+            out[f"rmse_of_range{suffix}"], out[f"r2{suffix}"] = r.rmse_of_range, r.r2
         rows.append(out)
     return tuple(cols), rows
 

@@ -14,14 +14,16 @@ def _fmt(value, digits: int = 3) -> str:
 
 
 def table2(v: Validation, title: str) -> Table:
-    """Table 2 of the first prediction: RMSE, r, the reference's mean SD and the status."""
+    """Table 2 of the first prediction: RMSE (also as a fraction of the measured range), r, R²,
+    the reference's mean SD and the status."""
     t = Table(title=title)
-    for col in ("quantity", "unit", "RMSE", "r", "ref. SD", "status"):
+    for col in ("quantity", "unit", "RMSE", "/range", "r", "R²", "ref. SD", "status"):
         t.add_column(col)
     key = "" if "rmse" in v.table2_columns else f"_{v.comparisons[0].prediction_name}"
     for row in v.table2:
-        t.add_row(row["label"], row["unit"], _fmt(row[f"rmse{key}"]), _fmt(row[f"r{key}"], 2),
-                  _fmt(row["reference_sd"]), row["status"])  # fmt: skip
+        t.add_row(row["label"], row["unit"], _fmt(row[f"rmse{key}"]),
+                  _fmt(row[f"rmse_of_range{key}"], 2), _fmt(row[f"r{key}"], 2),
+                  _fmt(row[f"r2{key}"], 2), _fmt(row["reference_sd"]), row["status"])  # fmt: skip
     return t
 
 

@@ -1,0 +1,44 @@
+"""Criterion weights from a TOML file (``walk3d predict --criterion weights.toml``).
+
+The file holds one number per term, at the top level or in a ``[criterion]`` table::
+
+    [criterion]
+    tor = 1.0
+    accel = 0.5
+    pelvis = 0.5
+
+Term names are those of :mod:`walk3d.problem.terms`; the weights are checked there.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from os import PathLike
+from pathlib import Path
+
+from walk3d.io.errors import DataFileError
+
+__all__ = ["read_criterion"]
+
+
+def read_criterion(path: str | PathLike[str]) -> str:
+    """The weights in ``path`` as an inline criterion ``name=w,...``; DataFileError if the file
+    is missing, not TOML, or holds anything but finite numbers."""
+    p = Path(path)
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise DataFileError(p, exc.strerror or str(exc)) from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise DataFileError(p, f"not a TOML file: {exc}") from None
+    table = data.get("criterion", data)
+    if not isinstance(table, dict) or not table:
+        raise DataFileError(p, "no criterion weights (expected e.g. 'tor = 1' lines)")
+    parts = []
+    for name, value in table.items():
+        ok = isinstance(value, int | float) and not isinstance(value, bool)
+        if not ok or not math.isfinite(float(value)):
+            raise DataFileError(p, f"the weight of {name} must be a finite number, got {value!r}")
+        parts.append(f"{name}={float(value):.17g}")
+    return ",".join(parts)
