@@ -31,7 +31,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--starts", type=int, default=20)
     ap.add_argument("--first-seed", type=int, default=0, help="seeds first-seed .. +K-1")
-    ap.add_argument("--criterion", choices=("tor", "en"), default="tor")
+    ap.add_argument("--criterion", default="tor", help="tor, en, natural or weights")
     ap.add_argument("--nodes", type=int, default=20)
     ap.add_argument(
         "--threads",
@@ -57,6 +57,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     out_path = environment.output_path(args, NAME)
 
+    from walk3d.problem import terms
     from walk3d.problem.settings import PredictionSettings, available_cores, body_for
     from walk3d.results.evaluate import evaluate_cycle
     from walk3d.results.gait_checks import walking_checks
@@ -141,13 +142,14 @@ def main(argv: list[str] | None = None) -> int:
         ev = evaluate_cycle(body, settings, out.x)
         g = settings.gait
         checks = walking_checks(ev.prediction_arrays, g.period, g.double_support, g.mass)
-        crit = ev.criteria[f"C_{settings.model.criterion}"]["total"]
+        label = terms.label(settings.model.criterion)
+        crit = ev.criteria[label]["total"]
         runs.append({"seed": seed, "converged": out.converged, "status": out.status,
                      "iterations": out.iterations, "attempts": out.attempts,
                      "wall_time_s": out.wall_time_s, "criterion": crit, "stages": out.stages,
                      "contact_residual_m": ev.contact_residual_m, **checks})  # fmt: skip
         print(f"seed {seed:3d}: {out.status:28s} {out.iterations:4d} it {out.wall_time_s:6.1f} s "
-              f"C_{settings.model.criterion} {crit:8.3f} knee {checks['knee_swing_max_deg']:4.0f} "
+              f"{label} {crit:8.3f} knee {checks['knee_swing_max_deg']:4.0f} "
               f"hip {checks['hip_stance_max_deg']:4.0f} "
               f"walking {checks['looks_like_walking']}", flush=True)  # fmt: skip
         summarize()
