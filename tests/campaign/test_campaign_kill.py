@@ -12,7 +12,8 @@ STARTS = 6
 
 
 def _command(out):
-    options = f"--starts {STARTS} --seed 3 --workers 2 --nodes 6 --max-iter 3 --restarts 0 --criterion tor".split()
+    options = f"--starts {STARTS} --seed 3 --workers 2 --nodes 6 --max-iter 3 --restarts 0".split()
+    options += ["--criterion", "tor"]
     return [sys.executable, "-m", "walk3d.cli", "campaign", *options, "--out", str(out)]
 
 

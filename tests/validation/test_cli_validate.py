@@ -86,5 +86,7 @@ def test_validate_writes_tables_and_figures(pred_dir, tmp_path, falisse):
     assert {"table2.csv", "table3.csv", "measured_fit.csv", "grf.png", "moments.png",
             "angles.png"} <= names  # fmt: skip
     header = (out / "table2.csv").read_text().splitlines()[0]
-    assert header == ("group,quantity,label,unit,status,n_cycles,reference_sd,reference_range,"
-                      "rmse,rmse_of_range,r,r2")
+    assert header == (
+        "group,quantity,label,unit,status,n_cycles,reference_sd,reference_range,"
+        "rmse,rmse_of_range,r,r2"
+    )
