@@ -122,3 +122,25 @@ def test_an_unwritable_output_folder_names_the_reason(tmp_path, monkeypatch):
     with pytest.raises(typer.Exit) as info:
         check_output_folder(str(tmp_path / "new"))
     assert info.value.exit_code == 2
+
+
+def test_ctrl_c_stops_predict_with_one_line_exit_130_and_no_output(tmp_path):
+    """SIGINT while the model builds or IPOPT iterates: a line, code 130, nothing written."""
+    import signal
+    import time
+
+    out = tmp_path / "o"
+    cmd = [sys.executable, "-m", "walk3d.cli", "predict", "--out", str(out), "--nodes", "8",
+           "--criterion", "tor", "--threads", "1"]  # fmt: skip
+    env = os.environ | {"OPENBLAS_NUM_THREADS": "1"}
+    default = lambda: signal.signal(signal.SIGINT, signal.SIG_DFL)  # noqa: E731 (not inherited SIG_IGN)
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                         preexec_fn=default)  # fmt: skip
+    time.sleep(12)
+    p.send_signal(signal.SIGINT)
+    t0 = time.perf_counter()
+    _, err = p.communicate(timeout=120)
+    assert p.returncode == 130, err
+    assert err.strip().splitlines() == ["walk3d: interrupted"], err
+    assert time.perf_counter() - t0 < 15  # IPOPT stops at its next iteration, no restart
+    assert not out.exists()

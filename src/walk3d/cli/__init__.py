@@ -43,4 +43,6 @@ def main(argv: list[str] | None = None) -> None:
             sys.stderr.write(f"walk3d: error: {msg}\n")
             sys.exit(2)
         raise
+    if rv == 130:  # Typer returns Ctrl-C's exit code itself when not in standalone mode
+        err_console.print("walk3d: interrupted", markup=False)
     sys.exit(rv if isinstance(rv, int) else 0)

@@ -19,7 +19,13 @@ from walk3d.problem import layout, similarity
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import upright
 from walk3d.solve.plan import END, SUCCESS, Stage, run_plan
-from walk3d.solve.progress import Listener, StopRule, bound_violation
+from walk3d.solve.progress import (
+    Listener,
+    StopRule,
+    bound_violation,
+    interruptible,
+    raise_if_interrupted,
+)
 from walk3d.solve.solver import Solver, build_solver
 
 __all__ = ["IPOPT_SUCCESS", "SolveOutcome", "Solver", "build_solver", "full_stage_start",
@@ -121,6 +127,7 @@ def _run(
     t0 = time.perf_counter()
     with solver.reporters[kind].listening(listener, b.lbg, b.ubg, stop):
         sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
+    raise_if_interrupted()
     stats = fn.stats()
     zz = np.array(sol["x"]).ravel()
     viol = max(bound_violation(np.array(sol["g"]).ravel(), b.lbg, b.ubg),
@@ -152,6 +159,19 @@ def solve(
     method: str = "ipopt",
     on_stage: Callable[[str], None] | None = None,
 ) -> SolveOutcome:
+    """:func:`solve_stages` with Ctrl-C turned into KeyboardInterrupt between CasADi calls
+    (:func:`walk3d.solve.progress.interruptible`): raised inside CasADi, it would be swallowed
+    (by its argument conversion while the model builds, by IPOPT's callback while it solves)."""
+    with interruptible():
+        return solve_stages(settings, seed, method, on_stage)
+
+
+def solve_stages(
+    settings: PredictionSettings,
+    seed: int = 0,
+    method: str = "ipopt",
+    on_stage: Callable[[str], None] | None = None,
+) -> SolveOutcome:
     """Predict one gait cycle from the standing start of ``seed``.
 
     Runs the solver's plan (:mod:`walk3d.solve.plan`); ``converged`` is True only when the
@@ -163,6 +183,7 @@ def solve(
     note("building the model")
     ref, scale = similarity.reference_problem(settings)
     solver = build_solver(ref, method)
+    raise_if_interrupted()
     t0 = time.perf_counter()
     ends: dict[str, np.ndarray] = {}  # the attempt's standing start and the last stage's end
 

@@ -10,6 +10,8 @@ ends a stage.
 from __future__ import annotations
 
 import contextlib
+import signal
+import threading
 from collections.abc import Callable, Iterator
 
 import casadi as ca
@@ -20,6 +22,46 @@ Listener = Callable[[int, float, float], None]
 StopRule = Callable[[int, float, float], bool]
 """``stop(iteration, objective, max_constraint_violation)``: True stops IPOPT there (status
 ``User_Requested_Stop``)."""
+
+
+class _Interrupt:
+    """Whether Ctrl-C came while IPOPT was running (:func:`interruptible`)."""
+
+    requested = False
+
+
+INTERRUPT = _Interrupt()
+
+
+@contextlib.contextmanager
+def interruptible() -> Iterator[None]:
+    """Inside this block (a solve), SIGINT (Ctrl-C) only sets a flag: IPOPT stops at its next
+    iteration, and the caller raises KeyboardInterrupt at its next check
+    (:func:`raise_if_interrupted`: after the model build, after each stage). Raised inside
+    CasADi instead, it is swallowed: as a failed stage (``NonIpopt_Exception_Thrown``) in IPOPT's
+    callback, or silently by the argument conversion of CasADi's Python bindings while the
+    model builds. Outside it, in threads other than the main one, and where
+    SIGINT is ignored, Ctrl-C behaves as usual."""
+    main = threading.current_thread() is threading.main_thread()
+    if not main or signal.getsignal(signal.SIGINT) == signal.SIG_IGN:  # e.g. a background job
+        yield
+        return
+
+    def handler(_signum, _frame) -> None:
+        INTERRUPT.requested = True
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def raise_if_interrupted() -> None:
+    """Raise KeyboardInterrupt if Ctrl-C came during the last :func:`interruptible` block."""
+    if INTERRUPT.requested:
+        INTERRUPT.requested = False
+        raise KeyboardInterrupt
 
 
 def bound_violation(v: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
@@ -59,7 +101,7 @@ class IterationReporter(ca.Callback):
         return ca.Sparsity.dense(n, 1) if n else ca.Sparsity(0, 0)
 
     def eval(self, arg: list) -> list:
-        stop = False
+        stop = INTERRUPT.requested
         if self._listener is not None or self._stop is not None:
             g = np.array(arg[2]).ravel()
             lo, hi = self._bounds if self._bounds is not None else (g, g)
@@ -69,7 +111,7 @@ class IterationReporter(ca.Callback):
             if self._stop is not None:
                 stop = bool(self._stop(self.iteration, float(arg[1]), viol))
         self.iteration += 1
-        return [1 if stop else 0]
+        return [1 if stop or INTERRUPT.requested else 0]
 
     @contextlib.contextmanager
     def listening(
