@@ -40,6 +40,8 @@ def test_every_start_is_stored_once(campaign):
                 (store.starts_dir(out) / store.start_name(seed) / "summary.json").read_text()
             )
             assert summary["seed"] == seed
+            folder = store.starts_dir(out) / store.start_name(seed)
+            assert (folder / "summary.png").stat().st_size > 10_000  # a full predict folder
             assert rec["criterion_value"] == summary["objective"]["C_tor"]["total"]
     stored = json.loads((out / "campaign.json").read_text())
     assert stored["settings"] == store.clean_json(TINY.model_dump())  # JSON: tuples as lists

@@ -218,6 +218,8 @@ def run_campaign(
         if pending:
             with _client(workers, scheduler, len(pending)) as client:
                 _run_pending(client, settings, pending, solver, out, records, advance)
+    # every task has ended: a temporary left now is a killed worker's, not a running one's
+    removed += store.clean_temporaries(out)
     rows = ranking.rank(out)
     ranking.write_ranking(out, rows)
     best = ranking.update_best(out, rows)

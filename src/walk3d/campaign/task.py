@@ -134,7 +134,7 @@ def run_start(settings_dict: dict, seed: int, solver: str, starts_dir: str) -> d
 
         _test_hooks(seed)
         settings = PredictionSettings(**settings_dict)
-        pred = predict_module.predict(settings, seed, solver, out_dir=tmp, figure=False)
+        pred = predict_module.predict(settings, seed, solver, out_dir=tmp)
         record = record_from_summary(pred.summary, criterion, time.perf_counter() - t0)
     except Exception as exc:
         shutil.rmtree(tmp, ignore_errors=True)
