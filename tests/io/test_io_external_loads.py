@@ -157,3 +157,17 @@ def test_missing_columns_and_bad_xml(tmp_path: Path, subject01: Path) -> None:
     bad.write_text("<OpenSimDocument>\n<ExternalLoads>\n<objects>\n</ExternalLoads>\n")
     with pytest.raises(DataFileError, match=r"^bad\.xml:4: invalid XML"):
         read_external_loads_xml(bad)
+
+
+def test_one_plate_is_refused_with_advice_a_file_can_follow(tmp_path: Path) -> None:
+    """The message names the column layouts walk3d accepts, not a Python-only argument."""
+    cols = [f"ground_force_{k}{a}" for k in "vp" for a in "xyz"]
+    cols += [f"ground_torque_{a}" for a in "xyz"]
+    path = tmp_path / "one.mot"
+    lines = ["one", "version=1", "nRows=3", f"nColumns={len(cols) + 1}", "inDegrees=no",
+             "endheader", "\t".join(["time", *cols])]  # fmt: skip
+    lines += ["\t".join([f"{t:.2f}"] + ["1.0"] * len(cols)) for t in (0.0, 0.01, 0.02)]
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match="cannot assign 1 force plate") as info:
+        extract_foot_loads(path)
+    assert "r_ground_force_vx" in str(info.value) and "mapping" not in str(info.value)

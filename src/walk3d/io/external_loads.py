@@ -295,8 +295,9 @@ def extract_foot_loads(
             chosen[side].append(plate)
     else:
         raise ValueError(
-            f"cannot assign {len(plates)} plates to the feet without side names: pass an "
-            "ExternalLoads XML or mapping={'right': ..., 'left': ...}"
+            f"cannot assign {len(plates)} force plate(s) to the feet: walk3d needs one load "
+            "per foot, as two plates or as columns named by side (r_ground_force_vx and "
+            "l_ground_force_vx, or ground_force_r_vx and ground_force_l_vx)"
         )
 
     feet = {}
