@@ -8,7 +8,7 @@ from walk3d.problem.settings import PredictionSettings
 
 SOLVERS = ("ipopt", "sqp")
 
-SOLVE_REVISION = 12
+SOLVE_REVISION = 13
 """Increased whenever a change makes a start of the same settings and seed run other stages or
 solve another problem; recorded in each summary.json. A campaign folder records it and refuses
 to resume under another revision, so that its starts stay comparable (the history of the
