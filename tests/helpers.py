@@ -1,5 +1,5 @@
-"""Helpers shared by the tests: finite differences (physics tests), a sample calibration and
-the location of the shared measured data."""
+"""Helpers shared by the tests: finite differences (physics tests), a random decision vector, a
+sample calibration and the location of the shared measured data."""
 
 import os
 from pathlib import Path
@@ -7,6 +7,18 @@ from pathlib import Path
 import numpy as np
 
 FD_STEP = 1e-3
+
+
+def random_decision(seed: int) -> np.ndarray:
+    """A smooth random decision vector (no optimization): coefficients uniform in ±0.04 with the
+    midline symmetry's zeros, half step width 0.08 m."""
+    from walk3d.problem import layout
+
+    rng = np.random.default_rng(seed)
+    x = rng.uniform(-0.04, 0.04, layout.N_X)
+    x[layout.fixed_zero_mask()] = 0.0
+    x[layout.I_HALF_STEP] = 0.08
+    return x
 
 
 def fd1(f, t, h=FD_STEP):

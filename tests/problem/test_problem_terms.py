@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from helpers import random_decision
 
 from walk3d import G
 from walk3d.body.model import build_body
@@ -48,10 +49,7 @@ def test_bad_criteria_are_refused_with_one_line(spec, words):
 def cycle():
     s = PredictionSettings(criterion=WEIGHTED)
     body = build_body()
-    rng = np.random.default_rng(5)
-    x = rng.uniform(-0.04, 0.04, layout.N_X)
-    x[layout.fixed_zero_mask()] = 0.0
-    x[layout.I_HALF_STEP] = 0.08
+    x = random_decision(5)
     return s, body, x, evaluate_cycle(body, s, x, n_samples=201)
 
 

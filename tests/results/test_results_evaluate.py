@@ -2,11 +2,11 @@
 
 import numpy as np
 import pytest
+from helpers import random_decision
 
 from walk3d import G
 from walk3d.body.model import build_body
 from walk3d.contact.phases import GaitPhases
-from walk3d.problem import layout
 from walk3d.problem.settings import PredictionSettings
 from walk3d.results.evaluate import evaluate_cycle
 
@@ -15,10 +15,7 @@ from walk3d.results.evaluate import evaluate_cycle
 def cycle():
     s = PredictionSettings()
     body = build_body()
-    rng = np.random.default_rng(11)
-    x = rng.uniform(-0.04, 0.04, layout.N_X)
-    x[layout.fixed_zero_mask()] = 0.0
-    x[layout.I_HALF_STEP] = 0.08
+    x = random_decision(11)
     return s, body, x, evaluate_cycle(body, s, x, n_samples=2161)
 
 

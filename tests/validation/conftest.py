@@ -4,12 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
 import pytest
-from helpers import shared_data_dir
+from helpers import random_decision, shared_data_dir
 
 from walk3d.body.model import build_body
-from walk3d.problem import layout
 from walk3d.problem.settings import PredictionSettings
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
 
@@ -44,10 +42,7 @@ def synthetic_prediction():
     """A full cycle of a smooth random motion (no optimization), as a Prediction."""
     settings = PredictionSettings()
     body = build_body()
-    rng = np.random.default_rng(5)
-    x = rng.uniform(-0.04, 0.04, layout.N_X)
-    x[layout.fixed_zero_mask()] = 0.0
-    x[layout.I_HALF_STEP] = 0.08
+    x = random_decision(5)
     ev = evaluate_cycle(body, settings, x)
     summary = {"settings": settings.model_dump(), "objective": ev.criteria}
     return make_prediction(ev.prediction_arrays, summary)
