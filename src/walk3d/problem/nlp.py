@@ -208,14 +208,12 @@ def node_function(
         f = [total, total * POWER_SCALE_W / EN_SCALE]
     else:
         g += [0.0] * (2 * N_T)
-    weights = terms.parse(model.criterion)
+    w_base = terms.parse(model.criterion)[terms.base(model.criterion)]
     extra = terms.extras(model.criterion)
-    if dynamics and (extra or weights[terms.base(model.criterion)] != 1.0):
+    if dynamics and (extra or w_base != 1.0):
         k = criterion_row(model)
         it = terms.integrands(body, _unpack_coords(yl, p[2]), st.pose, st.total[0])
-        f[k] = weights[terms.base(model.criterion)] * f[k] + terms.weighted(extra, it) * row_scale(
-            model
-        )
+        f[k] = w_base * f[k] + terms.weighted(extra, it) * row_scale(model)
     g += _support(body, model, st, per_foot)
     return ca.Function("walk3d_node", [y, w0, hw, p, t], [ca.vertcat(*g), ca.vertcat(*f)])
 
@@ -337,10 +335,11 @@ def build_nlp(
     hs_map = _hs_map(ratios_for(settings.model))  # calibrated Eqs. 7–8 for the trailing (left) foot
     g_hs = ca.mtimes(ca.DM(hs_map), g0[G_ROWS["hs_wrench"]]) - w0
     crit = criterion_row(settings.model)
-    weight = 2.0 * sch.step if sch.weights is None else 2.0 * sch.weights
-    if sch.weights is None:
+    if sch.weights is None:  # one weight for every node: the paper's regular grid
+        weight = 2.0 * sch.step
         f = weight * ca.sum2(fk[crit, :])
     else:
+        weight = 2.0 * sch.weights
         f = ca.mtimes(fk[crit, :], ca.DM(weight))
     quad = jerk_weights(settings) if dynamics else None
     if quad is not None:

@@ -195,24 +195,26 @@ def integrands(
             "pose": tuple(posture), "pelvis": pelvis, "momentum": momentum}  # fmt: skip
 
 
-def jerk_per_dof(x: np.ndarray, period: float) -> np.ndarray:
-    """``∫ (1/24) (2 q⃛_i / JERK_REF)² dt`` over the cycle for each of the 24 DoFs, exactly:
-    ``(T/2) Σ_k (kω)⁶ (a_k² + b_k²)`` per series (a half-cycle shift keeps every amplitude)."""
-    c = layout.coefficients(np.asarray(x, dtype=float))
+def _jerk_per_coefficient(period: float) -> np.ndarray:
+    """(N_COEF,) ``w_j`` with ``∫ (1/24) (2 q⃛ / JERK_REF)² dt = Σ_j w_j c_j²`` for one series
+    over the cycle (Parseval: ``(T/2) (kω)⁶`` per cosine and sine coefficient, 0 for ``a0``)."""
     w = 2 * np.pi / period
     k = np.array([0] + [j for j in range(1, fourier.ORDER + 1) for _ in range(2)], dtype=float)
-    per_series = 0.5 * period * np.sum(((k * w) ** 3 * c) ** 2, axis=1)
-    src = [s for s, _ in layout.COORD_SOURCE[:24]]
-    return per_series[src] * 4.0 / (24.0 * JERK_REF**2)
+    return 0.5 * period * (k * w) ** 6 * 4.0 / (24.0 * JERK_REF**2)
+
+
+def jerk_per_dof(x: np.ndarray, period: float) -> np.ndarray:
+    """``∫ (1/24) (2 q⃛_i / JERK_REF)² dt`` over the cycle for each of the 24 DoFs, exactly (a
+    half-cycle shift keeps every amplitude, so a DoF has its series' value)."""
+    c = layout.coefficients(np.asarray(x, dtype=float))
+    per_series = (c * c) @ _jerk_per_coefficient(period)
+    return per_series[[s for s, _ in layout.COORD_SOURCE[:24]]]
 
 
 def coefficient_weights(period: float) -> np.ndarray:
     """``q`` (N_X,) with ``C_jerk = Σ_i q_i x_i²`` (:func:`jerk_per_dof` summed)."""
-    w = 2 * np.pi / period
-    k = np.array([0] + [j for j in range(1, fourier.ORDER + 1) for _ in range(2)], dtype=float)
     count = np.bincount([s for s, _ in layout.COORD_SOURCE[:24]], minlength=layout.N_SERIES)
-    q = np.outer(count, 0.5 * period * (k * w) ** 6) * 4.0 / (24.0 * JERK_REF**2)
-    return np.concatenate([q.ravel(), [0.0]])
+    return np.concatenate([np.outer(count, _jerk_per_coefficient(period)).ravel(), [0.0]])
 
 
 def angular_momentum(body: BodyModel, pose: Pose) -> tuple[Any, Any, Any]:

@@ -139,6 +139,7 @@ def evaluate_cycle(
     axes = None
     extra = {name: np.zeros((n, 3)) for name in terms.EXTRAS if name != "jerk"}
     viol: list[dict[str, float]] = []
+    coords = _coords(x, t, T)
     for root, idx in blocks.items():
         if idx.size == 0:
             continue
@@ -157,7 +158,7 @@ def evaluate_cycle(
         m, w, axes = dof_moment_terms(body, st)
         dof_m[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in m])
         dof_w[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in w])
-        coords_b = _coords(x, tb, T)
+        coords_b = [tuple(v[idx] for v in c) for c in coords]
         for name, parts in terms.integrands(body, coords_b, st.pose, st.total[0]).items():
             extra[name][idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in parts])
         ds = ph.double_support_mask(tb) & (
@@ -187,7 +188,6 @@ def evaluate_cycle(
             crit[name][f"C_{term}"] = split_by_axis(np.sum(v[periodic], axis=0) * dt, [0, 1, 2])
         crit[name]["C_jerk"] = split_by_axis(terms.jerk_per_dof(x, T), axes)
         crit[name]["C_weighted"] = weighted_total(settings.model.criterion, crit[name])
-    coords = _coords(x, t, T)
     coord_angles = np.column_stack([2 * np.arcsin(np.clip(c[0], -1, 1)) for c in coords[:24]])
     violations = summarize_violations(
         viol, range_excess_deg(coord_angles, joint_ranges(body, settings))
