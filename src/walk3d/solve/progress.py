@@ -101,7 +101,7 @@ class IterationReporter(ca.Callback):
         return ca.Sparsity.dense(n, 1) if n else ca.Sparsity(0, 0)
 
     def eval(self, arg: list) -> list:
-        stop = INTERRUPT.requested
+        stop = False
         if self._listener is not None or self._stop is not None:
             g = np.array(arg[2]).ravel()
             lo, hi = self._bounds if self._bounds is not None else (g, g)
@@ -111,7 +111,7 @@ class IterationReporter(ca.Callback):
             if self._stop is not None:
                 stop = bool(self._stop(self.iteration, float(arg[1]), viol))
         self.iteration += 1
-        return [1 if stop or INTERRUPT.requested else 0]
+        return [1 if stop or INTERRUPT.requested else 0]  # Ctrl-C: stop IPOPT here
 
     @contextlib.contextmanager
     def listening(
