@@ -6,6 +6,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from walk3d import __version__
+from walk3d.io.errors import OutputWriteError
 from walk3d.problem import similarity, terms
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
@@ -85,9 +86,23 @@ def predict(
     ev = evaluate_cycle(body, settings, outcome.x)
     pred = make_prediction(ev.prediction_arrays, summarize(settings, seed, outcome, ev, solver))
     if out_dir is not None:
-        save_prediction(pred, out_dir)
-        if figure:
-            from walk3d.plots import summary_figure
-
-            summary_figure(pred, Path(out_dir) / "summary.png")
+        write_result(pred, out_dir, figure)
     return pred
+
+
+def write_result(pred: Prediction, out_dir: str | Path, figure: bool = True) -> Path:
+    """Write the result folder atomically, with ``summary.png`` when ``figure``.
+
+    Raises:
+        OutputWriteError: the folder could not be written; nothing is left behind.
+    """
+
+    def add_figure(folder: Path) -> None:
+        from walk3d.plots import summary_figure
+
+        summary_figure(pred, folder / "summary.png")
+
+    try:
+        return save_prediction(pred, out_dir, extra=add_figure if figure else None)
+    except OSError as exc:
+        raise OutputWriteError(out_dir, exc) from exc

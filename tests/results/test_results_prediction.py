@@ -111,7 +111,47 @@ def _fields(pred: Prediction) -> dict:
 def test_save_writes_all_files_without_temporaries(saved):
     _, out = saved
     names = sorted(p.name for p in out.iterdir())
-    assert names == sorted(["result.npz", "summary.json", "motion.mot", "grf.mot", "grf.xml"])
+    files = ["result.npz", "summary.json", "motion.mot", "grf.mot", "grf.xml", "manifest.json"]
+    assert names == sorted(files)
+    assert not [p for p in out.parent.iterdir() if p.name.startswith(".tmp_")]
+
+
+def test_a_failed_save_leaves_nothing_and_keeps_the_earlier_result(saved, tmp_path):
+    pred, out = saved
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+
+    def broken(folder):
+        (folder / "summary.png").write_bytes(b"half")
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(OSError, match="No space"):
+        save_prediction(pred, out, extra=broken)
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    with pytest.raises(OSError):
+        save_prediction(pred, tmp_path / "fresh", extra=broken)
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+    save_prediction(pred, tmp_path / "fresh", extra=lambda f: (f / "x.png").write_bytes(b"png"))
+    assert (tmp_path / "fresh" / "x.png").read_bytes() == b"png"  # control: extra files land
+    assert "x.png" in json.loads((tmp_path / "fresh" / "manifest.json").read_text())["files"]
+
+
+@pytest.mark.parametrize("damage", ["delete", "truncate", "no manifest"])
+def test_an_incomplete_result_folder_is_refused(saved, tmp_path, damage):
+    import shutil
+
+    _, out = saved
+    bad = tmp_path / "bad"
+    shutil.copytree(out, bad)
+    load_result(bad)  # negative control: the intact copy loads
+    if damage == "delete":
+        (bad / "motion.mot").unlink()
+    elif damage == "truncate":
+        text = (bad / "grf.mot").read_text()
+        (bad / "grf.mot").write_text(text[: len(text) // 2])
+    else:
+        (bad / "manifest.json").unlink()
+    with pytest.raises(DataFileError, match="incomplete"):
+        load_result(bad)
 
 
 def test_load_round_trip(saved):
@@ -195,18 +235,27 @@ def test_write_motion_standalone(tmp_path):
 
 
 def test_load_errors(tmp_path, saved):
-    with pytest.raises(FileNotFoundError):
+    import shutil
+
+    with pytest.raises(DataFileError, match="incomplete"):
         load_result(tmp_path)
     _, out = saved
     bad = tmp_path / "bad"
-    bad.mkdir()
-    (bad / "summary.json").write_text("{not json")
-    with pytest.raises(DataFileError):
+    shutil.copytree(out, bad)
+
+    def rewrite(name, write):
+        write(bad / name)
+        manifest = json.loads((bad / "manifest.json").read_text())
+        manifest["files"][name] = (bad / name).stat().st_size
+        (bad / "manifest.json").write_text(json.dumps(manifest))
+
+    rewrite("summary.json", lambda p: p.write_text("{not json"))
+    with pytest.raises(DataFileError, match="JSON"):
         load_result(bad)
-    (bad / "summary.json").write_text("{}")
+    rewrite("summary.json", lambda p: p.write_text("{}"))
     with np.load(out / "result.npz") as data:
         arrays = {k: data[k] for k in data.files if k != "grf_cop"}
-    np.savez(bad / "result.npz", **arrays)
+    rewrite("result.npz", lambda p: np.savez(p, **arrays))
     with pytest.raises(DataFileError, match="grf_cop"):
         load_result(bad)
 

@@ -28,6 +28,16 @@ def pred_dir(synthetic_prediction, tmp_path_factory):
     return save_prediction(synthetic_prediction, tmp_path_factory.mktemp("pred") / "p")
 
 
+def test_an_incomplete_result_folder_is_refused(pred_dir, tmp_path, falisse):
+    import shutil
+
+    bad = tmp_path / "p"
+    shutil.copytree(pred_dir, bad)
+    (bad / "motion.mot").unlink()  # what a crash between two files left before atomic folders
+    r = _run("validate", bad, "--reference", falisse / "cycle_right_leg_mean_sd.csv")
+    _one_line_error(r, "incomplete result folder: motion.mot is missing")
+
+
 def test_malformed_cycle_table(pred_dir, tmp_path):
     lines = ["percent_cycle,knee_angle_deg_mean,knee_angle_deg_sd"]
     lines += [f"{p},{-30 + p / 4},{2.0}" for p in range(101)]

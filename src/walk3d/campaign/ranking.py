@@ -25,12 +25,15 @@ __all__ = ["COLUMNS", "order_records", "rank", "top_table", "update_best", "writ
 RANKING_FILE = "ranking.csv"
 BEST_DIR = "best"
 COLUMNS = (
-    "rank", "seed", "converged", "status", "criterion_value",
+    "rank", "seed", "converged", "status", "failure", "criterion_value",
     "C_tor_total", "C_tor_x", "C_tor_y", "C_tor_z",
     "C_en_total", "C_en_x", "C_en_y", "C_en_z",
     "iterations", "wall_time_s", "looks_like_walking",
 )  # fmt: skip
-"""Columns of ``ranking.csv`` (``criterion_value`` is the campaign's chosen criterion;
+"""Columns of ``ranking.csv`` (``failure`` is empty for a converged start, ``numerics`` for a
+solve that failed or raised, which a rerun would repeat, and ``environment`` for a start stopped
+by disk, memory or a lost worker, which a resume runs again; ``criterion_value`` is the
+campaign's chosen criterion;
 ``looks_like_walking`` is :func:`walk3d.results.gait_checks.walking_checks`' verdict, empty
 for a start without a result)."""
 
@@ -56,6 +59,7 @@ def order_records(records: list[dict]) -> list[dict]:
             "seed": int(r["seed"]),
             "converged": bool(r.get("converged")),
             "status": str(r.get("status")),
+            "failure": r.get("failure", "" if r.get("converged") else "numerics"),
             "criterion_value": _value(r),
         }
         for crit in ("C_tor", "C_en"):

@@ -64,6 +64,8 @@ class CampaignReport:
     best_seed: int | None = None
     wall_time_s: float = 0.0
     removed_temporaries: int = 0
+    retried: int = 0
+    """Starts that had failed on the environment (disk, memory, lost worker) and ran again."""
 
     @property
     def converged(self) -> int:
@@ -74,6 +76,13 @@ class CampaignReport:
     def errors(self) -> int:
         """Number of starts that raised or whose worker died."""
         return sum(1 for r in self.rows if r["status"].startswith("error:"))
+
+    @property
+    def missing(self) -> int:
+        """Requested starts with no record (their record could not be written): rerun to retry."""
+        return self.starts - sum(
+            1 for r in self.rows if self.base_seed <= r["seed"] < self.base_seed + self.starts
+        )
 
     @property
     def any_converged(self) -> bool:
@@ -206,6 +215,7 @@ def run_campaign(
     removed = store.clean_temporaries(out)
     records = store.finished_records(out, repair=True)
     seeds = [base_seed + k for k in range(starts)]
+    retried = store.forget_environment_failures(out, records, seeds)
     pending = [s for s in seeds if s not in records]
     criterion = settings.model.criterion
     with _progress(console, progress) as bar:
@@ -227,6 +237,7 @@ def run_campaign(
         out_dir=out, criterion=criterion, starts=starts, base_seed=base_seed,
         ran=len(pending), skipped=len(seeds) - len(pending), rows=rows, best_seed=best,
         wall_time_s=time.perf_counter() - t0, removed_temporaries=len(removed),
+        retried=len(retried),
     )  # fmt: skip
 
 
@@ -258,7 +269,10 @@ def _run_pending(
             if future.status != "error":  # cancelled or lost: leave the start for a resume
                 continue
             # the task raised outside its own guard, or its worker died (KilledWorker)
-            record = task.write_error(root, seed, settings.model.criterion, exc)
+            try:
+                record = task.write_error(root, seed, settings.model.criterion, exc)
+            except OSError:  # not even a record fits (disk full): the start stays pending
+                continue
         records[seed] = record
         advance()
         future.release()

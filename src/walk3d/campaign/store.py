@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from walk3d import __version__
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io._atomic import TMP_PREFIX, atomic_folder, atomic_write_text, fsync_dir
 from walk3d.problem.settings import PredictionSettings, flat_settings
 from walk3d.solve import SOLVE_REVISION
 
@@ -39,6 +39,7 @@ __all__ = [
     "clean_temporaries",
     "commit_start",
     "finished_records",
+    "forget_environment_failures",
     "new_temporary",
     "open_campaign",
     "read_campaign",
@@ -48,7 +49,6 @@ __all__ = [
 CAMPAIGN_FILE = "campaign.json"
 RECORD_FILE = "record.json"
 STARTS_DIR = "starts"
-TMP_PREFIX = ".tmp_"
 _START_RE = re.compile(r"^seed_(\d{6,})$")
 
 
@@ -83,19 +83,6 @@ def write_json(path: Path, data: dict) -> None:
     """Write ``data`` atomically as indented, key-sorted strict JSON."""
     text = json.dumps(clean_json(data), indent=2, sort_keys=True, allow_nan=False)
     atomic_write_text(path, text + "\n")
-
-
-def _fsync_dir(path: Path) -> None:
-    try:
-        fd = os.open(path, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
 
 
 def _describe(value: Any) -> str:
@@ -229,6 +216,20 @@ def finished_records(out_dir: str | Path, repair: bool = False) -> dict[int, dic
     return records
 
 
+def forget_environment_failures(
+    out_dir: str | Path, records: dict[int, dict], seeds: list[int]
+) -> list[int]:
+    """Delete the folders of the ``seeds`` whose record says they failed on the environment
+    (disk, memory, a lost worker), and drop them from ``records``, so that they run again."""
+    retried = []
+    for seed in seeds:
+        if (records.get(seed) or {}).get("failure") == "environment":
+            shutil.rmtree(starts_dir(out_dir) / start_name(seed))
+            del records[seed]
+            retried.append(seed)
+    return retried
+
+
 def new_temporary(parent: Path, name: str) -> Path:
     """Create and return an empty temporary folder ``parent/.tmp_<name>_<random>``."""
     parent.mkdir(parents=True, exist_ok=True)
@@ -246,7 +247,7 @@ def commit_start(tmp: Path, seed: int, record: dict) -> dict:
     final = tmp.parent / start_name(seed)
     try:
         write_json(tmp / RECORD_FILE, record)
-        _fsync_dir(tmp)
+        fsync_dir(tmp)
         try:
             os.rename(tmp, final)
         except OSError:
@@ -258,28 +259,11 @@ def commit_start(tmp: Path, seed: int, record: dict) -> dict:
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
-    _fsync_dir(tmp.parent)
+    fsync_dir(tmp.parent)
     return clean_json(record)
 
 
 def replace_folder(source: Path, target: Path) -> None:
-    """Make ``target`` a copy of ``source`` without ever leaving a partial ``target``.
-
-    The copy is built in a temporary sibling; the old ``target`` is moved aside (to another
-    temporary, removed afterwards) just before the new one is renamed into place.
-    """
-    tmp = new_temporary(target.parent, target.name)
-    try:
+    """Make ``target`` a copy of ``source`` without ever leaving a partial ``target``."""
+    with atomic_folder(target) as tmp:
         shutil.copytree(source, tmp, dirs_exist_ok=True)
-        _fsync_dir(tmp)
-        if target.exists():
-            old = target.parent / f"{TMP_PREFIX}old_{target.name}_{secrets.token_hex(6)}"
-            os.rename(target, old)
-            os.rename(tmp, target)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.rename(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    _fsync_dir(target.parent)

@@ -26,11 +26,25 @@ from walk3d.campaign import store
 from walk3d.problem import terms
 from walk3d.problem.settings import flat_settings
 
-__all__ = ["error_record", "record_from_summary", "run_start"]
+__all__ = ["ENVIRONMENT", "NUMERICS", "error_record", "failure_kind", "record_from_summary",
+           "run_start"]  # fmt: skip
 
 FAIL_ENV = "WALK3D_CAMPAIGN_FAIL_SEEDS"
 CRASH_ENV = "WALK3D_CAMPAIGN_CRASH_SEEDS"
 CRITERIA = ("C_tor", "C_en")
+ENVIRONMENT = "environment"
+"""Failure kind of a start stopped by its surroundings (disk, memory, a lost worker): it is
+retried when the campaign resumes."""
+NUMERICS = "numerics"
+"""Failure kind of a start whose solve did not converge or raised in the model or solver: it
+stays recorded, as rerunning it gives the same answer."""
+
+
+def failure_kind(exc: BaseException) -> str:
+    """:data:`ENVIRONMENT` for OS, memory and dead-worker errors, else :data:`NUMERICS`."""
+    if isinstance(exc, (OSError, MemoryError)) or type(exc).__name__ == "KilledWorker":
+        return ENVIRONMENT
+    return NUMERICS
 
 
 def _env_seeds(name: str) -> set[int]:
@@ -62,6 +76,7 @@ def record_from_summary(summary: dict, criterion: str, task_time_s: float) -> di
         "seed": int(summary["seed"]),
         "status": str(summary.get("status")),
         "converged": bool(summary.get("converged")),
+        "failure": "" if summary.get("converged") else NUMERICS,
         "criterion": criterion,
         "criterion_value": _split(objective.get(terms.label(criterion)))["total"],
         "iterations": summary.get("iterations"),
@@ -76,12 +91,15 @@ def record_from_summary(summary: dict, criterion: str, task_time_s: float) -> di
     return store.clean_json(record)
 
 
-def error_record(seed: int, criterion: str, message: str, task_time_s: float | None) -> dict:
+def error_record(
+    seed: int, criterion: str, message: str, task_time_s: float | None, failure: str = NUMERICS
+) -> dict:
     """The record of a start that raised or whose worker died (never converged)."""
     return {
         "seed": seed,
         "status": f"error: {message}",
         "converged": False,
+        "failure": failure,
         "criterion": criterion,
         "criterion_value": None,
         "iterations": None,
@@ -103,7 +121,8 @@ def write_error(
 ) -> dict:
     """Write a record-only folder for a start that failed with ``exc``; returns the record.
 
-    A dead worker (Dask's ``KilledWorker``) gets a short fixed message.
+    A dead worker (Dask's ``KilledWorker``) gets a short fixed message. Raises ``OSError``
+    when even the record cannot be written (the start then stays pending).
     """
     if type(exc).__name__ == "KilledWorker":
         message = "KilledWorker: the worker process died while running this start"
@@ -112,7 +131,8 @@ def write_error(
     tmp = store.new_temporary(Path(starts_dir), store.start_name(seed))
     if tb:
         (tmp / "traceback.txt").write_text(tb, encoding="utf-8")
-    return store.commit_start(tmp, seed, error_record(seed, criterion, message, task_time_s))
+    record = error_record(seed, criterion, message, task_time_s, failure_kind(exc))
+    return store.commit_start(tmp, seed, record)
 
 
 def run_start(settings_dict: dict, seed: int, solver: str, starts_dir: str) -> dict:

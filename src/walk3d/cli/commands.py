@@ -11,6 +11,7 @@ import typer
 from rich.table import Table
 
 from walk3d.cli.common import (
+    EXIT_WRITE,
     SOLVER,
     CalibrationFile,
     Criterion,
@@ -162,9 +163,10 @@ def predict(
 ) -> None:
     """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot and
     summary.png. Exit code 0 if the solve converged, 1 if not (results are still written and
-    labelled), 2 for bad input. With --from-trial IK.mot --grf GRF.mot, V, T and Td come from
-    the trial unless --speed, --period or --double-support are given explicitly."""
-    check_output_folder(out)
+    labelled), 2 for bad input, 3 if the folder could not be written (nothing is left), 130 on
+    Ctrl-C. An earlier result in DIR is replaced. With --from-trial IK.mot --grf GRF.mot, V, T
+    and Td come from the trial unless --speed, --period or --double-support are given."""
+    check_output_folder(out, replaces="summary.json")
     speed, period, double_support = _descriptors_from_trial(
         ctx, from_trial, grf, speed=speed, period=period, double_support=double_support
     )
@@ -179,11 +181,15 @@ def predict(
         hsl_library=hsl_library,
         **_calibration_fields(calibration),
     )  # fmt: skip
+    from walk3d.io.errors import OutputWriteError
     from walk3d.predict import predict as run
 
-    with console.status("walk3d: starting") as status:
-        pred = run(settings, seed, solver, out_dir=out,
-                   on_stage=lambda msg: status.update(f"walk3d: {msg}"))  # fmt: skip
+    try:
+        with console.status("walk3d: starting") as status:
+            pred = run(settings, seed, solver, out_dir=out,
+                       on_stage=lambda msg: status.update(f"walk3d: {msg}"))  # fmt: skip
+    except OutputWriteError as exc:
+        fail(str(exc), code=EXIT_WRITE)
     s = pred.summary
     t = Table(title=f"walk3d predict -> {out}")
     t.add_column("quantity")
@@ -340,7 +346,9 @@ def campaign(
     """Run N random starts in parallel (Dask) and rank them. Each finished start is stored
     at once in DIR/starts/seed_<seed>/ (a walk3d predict folder plus record.json); rerunning
     the same command resumes (a larger --starts adds starts). Writes DIR/ranking.csv and
-    DIR/best/. Exit code 0 if a start converged, 1 if none did, 2 for bad input."""
+    DIR/best/. Exit code 0 if a start converged, 1 if none did, 2 for bad input, 3 if starts
+    could not be written (a rerun retries them, and starts that failed on the disk, memory or a
+    lost worker), 130 on Ctrl-C."""
     if starts < 1:
         fail(f"--starts must be a positive integer, got {starts}")
     if workers is not None and workers < 1:
@@ -362,6 +370,7 @@ def campaign(
     from walk3d.campaign import CampaignMismatch, run_campaign
     from walk3d.campaign.ranking import top_table
     from walk3d.cli.compile import compile_with_progress, worth_compiling
+    from walk3d.io.errors import OutputWriteError
 
     if solver == "ipopt" and (compile_c or (compile_c is None and worth_compiling(starts))):
         compile_with_progress(settings, console)
@@ -371,12 +380,18 @@ def campaign(
                               solver=solver, console=console)  # fmt: skip
     except CampaignMismatch as exc:
         fail(" ".join(str(exc).split()))
+    except OSError as exc:
+        fail(str(OutputWriteError(out, exc)), code=EXIT_WRITE)
     console.print(top_table(report.rows, criterion))
+    retried = f", {report.retried} retried after an environment failure" if report.retried else ""
     console.print(
         f"{len(report.rows)} starts in {out}: {report.converged} converged, "
-        f"{report.errors} errors; this run {report.ran}, resumed {report.skipped} "
+        f"{report.errors} errors; this run {report.ran}{retried}, resumed {report.skipped} "
         f"({report.wall_time_s:.1f} s); ranking in {out}/ranking.csv"
     )
+    if report.missing:
+        fail(f"{report.missing} starts could not be recorded in {out} (disk full?); free space "
+             "and rerun the same command to run them", code=EXIT_WRITE)  # fmt: skip
     if report.best_seed is None:
         console.print("no start converged: no best/ folder was written")
         raise typer.Exit(1)

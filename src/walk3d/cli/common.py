@@ -134,21 +134,29 @@ CalibrationFile = Annotated[
 ]
 
 
+EXIT_WRITE = 3
+"""Exit code of a command whose output could not be written (disk full, permissions)."""
+
+
 def fail(message: str, code: int = 2) -> None:
     """Print one error line and exit (2 = bad input)."""
     sys.stderr.write(f"walk3d: error: {message}\n")
     raise typer.Exit(code)
 
 
-def check_output_folder(path: str, option: str = "--out") -> None:
+def check_output_folder(path: str, option: str = "--out", replaces: str | None = None) -> None:
     """Refuse, before any work starts, an output folder that cannot be created or written: one
-    line and exit code 2 (a solve of a minute must not end in a write error)."""
+    line and exit code 2 (a solve of a minute must not end in a write error). With
+    ``replaces`` (a file name), an existing non-empty folder must hold that file, so that only
+    an earlier result is ever replaced, never a folder of other files."""
     import errno
     from pathlib import Path
 
     out = Path(path)
     if out.exists() and not out.is_dir():
         fail(f"{option} {path} is an existing file, not a folder")
+    if replaces and out.is_dir() and any(out.iterdir()) and not (out / replaces).is_file():
+        fail(f"{option} {path} is a folder of other files (no {replaces}); use a new folder")
     base = out
     while not base.exists():
         base = base.parent

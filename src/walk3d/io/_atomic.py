@@ -1,15 +1,25 @@
-"""Atomic file writing shared by every walk3d writer (text, bytes, or a writer callback)."""
+"""Atomic writing shared by every walk3d writer: one file (text, bytes, or a writer callback)
+or a whole folder."""
 
 from __future__ import annotations
 
 import os
 import secrets
-from collections.abc import Callable
+import shutil
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from os import PathLike
 from pathlib import Path
 from typing import IO
 
-__all__ = ["atomic_write", "atomic_write_bytes", "atomic_write_text"]
+__all__ = [
+    "TMP_PREFIX",
+    "atomic_folder",
+    "atomic_write",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "fsync_dir",
+]
 
 
 def atomic_write(path: str | PathLike[str], write: Callable[[IO[bytes]], object]) -> Path:
@@ -52,3 +62,49 @@ def atomic_write_text(path: str | PathLike[str], text: str) -> Path:
         The destination path.
     """
     return atomic_write_bytes(path, text.encode("utf-8"))
+
+
+TMP_PREFIX = ".tmp_"
+"""Name prefix of the temporary sibling folders that :func:`atomic_folder` builds in."""
+
+
+def fsync_dir(folder: Path) -> None:
+    """Flush a folder's entries to disk (a no-op where folders cannot be opened)."""
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+@contextmanager
+def atomic_folder(path: str | PathLike[str]) -> Iterator[Path]:
+    """Build a folder in a temporary sibling ``.tmp_<name>_<random>``, then rename it to ``path``.
+
+    On success an existing ``path`` is moved aside and removed just after the new folder takes
+    its name, so a reader sees the old folder or the new one, never a partial one. On any
+    failure the temporary is deleted and ``path`` is left as it was.
+    """
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = target.parent / f"{TMP_PREFIX}{target.name}_{secrets.token_hex(6)}"
+    tmp.mkdir()
+    try:
+        yield tmp
+        fsync_dir(tmp)
+        if target.exists():
+            old = target.parent / f"{TMP_PREFIX}old_{target.name}_{secrets.token_hex(6)}"
+            os.rename(target, old)
+            os.rename(tmp, target)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.rename(tmp, target)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    fsync_dir(target.parent)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from os import PathLike
 from pathlib import Path
 
-__all__ = ["DataFileError"]
+__all__ = ["DataFileError", "OutputWriteError"]
 
 
 class DataFileError(ValueError):
@@ -27,3 +27,21 @@ class DataFileError(ValueError):
         self.reason = " ".join(str(reason).split())
         location = self.path.name if line is None else f"{self.path.name}:{line}"
         super().__init__(f"{location}: {self.reason}")
+
+
+class OutputWriteError(OSError):
+    """An output folder or file could not be written (disk full, permissions, I/O error).
+
+    The message is one line: the path and the operating system's reason. Nothing partial is
+    left behind by the writer that raises it.
+    """
+
+    def __init__(self, path: str | PathLike[str], cause: BaseException) -> None:
+        self.path = Path(path)
+        why = getattr(cause, "strerror", None) or " ".join(str(cause).split())
+        why = why or type(cause).__name__
+        errno = getattr(cause, "errno", None)
+        super().__init__(errno, f"could not write {self.path}: {why.lower()}")
+
+    def __str__(self) -> str:
+        return str(self.strerror)

@@ -14,7 +14,9 @@ and a JSON-ready ``summary`` dictionary. :func:`save_prediction` writes a result
 * ``grf.mot`` and ``grf.xml``: ground reactions and their OpenSim ExternalLoads file
   (:func:`walk3d.results.opensim.write_grf`).
 
-Each file is written atomically (a temporary file in the same folder, then :func:`os.replace`).
+* ``manifest.json``: written last, every file's name and size (:func:`check_complete`).
+
+The folder is written atomically: built in a temporary sibling, then renamed into place.
 :func:`load_result` reads ``result.npz`` and ``summary.json`` back; all arrays come back
 bit-for-bit except ``joint_angle``, whose degree-radian round trip is exact to ~1 ulp.
 """
@@ -24,6 +26,7 @@ from __future__ import annotations
 import io
 import json
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field, fields
 from os import PathLike
 from pathlib import Path
@@ -31,14 +34,25 @@ from typing import Any
 
 import numpy as np
 
-from walk3d.io._atomic import atomic_write_bytes, atomic_write_text
+from walk3d import __version__
+from walk3d.io._atomic import atomic_folder, atomic_write_bytes, atomic_write_text
 from walk3d.io.errors import DataFileError
 from walk3d.results.opensim import write_grf, write_motion
 
-__all__ = ["Prediction", "load_result", "save_prediction", "RESULT_FILES"]
+__all__ = [
+    "MANIFEST",
+    "Prediction",
+    "RESULT_FILES",
+    "check_complete",
+    "load_result",
+    "save_prediction",
+]
 
 RESULT_FILES = ("result.npz", "summary.json", "motion.mot", "grf.mot", "grf.xml")
-"""The files :func:`save_prediction` writes into the result folder."""
+"""The files :func:`save_prediction` always writes into the result folder."""
+
+MANIFEST = "manifest.json"
+"""Written last into a result folder: every file's name and size in bytes."""
 
 _NAME_FIELDS = ("segment_names", "dof_names", "joint_names")
 
@@ -171,36 +185,74 @@ def _npz_arrays(pred: Prediction) -> dict[str, np.ndarray]:
     return arrays
 
 
-def save_prediction(pred: Prediction, out_dir: str | PathLike[str]) -> Path:
-    """Write the result folder of ``pred`` (see the module doc), creating it if needed.
+def save_prediction(
+    pred: Prediction,
+    out_dir: str | PathLike[str],
+    extra: Callable[[Path], object] | None = None,
+) -> Path:
+    """Write the result folder of ``pred`` (see the module doc) as one atomic step.
+
+    The files are built in a temporary sibling folder; ``extra(folder)`` may add more (the
+    summary figure); ``manifest.json`` is written last and the folder is then renamed to
+    ``out_dir``, replacing an earlier result. On any failure nothing is left behind.
 
     Returns:
         The result folder.
     """
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    buffer = io.BytesIO()
-    np.savez(buffer, **_npz_arrays(pred))
-    atomic_write_bytes(out / "result.npz", buffer.getvalue())
-    text = json.dumps(pred.summary, indent=2, sort_keys=True, default=_json_default)
-    atomic_write_text(out / "summary.json", text + "\n")
-    write_motion(out / "motion.mot", pred)
-    write_grf(out / "grf.mot", pred, xml_path=out / "grf.xml")
+    with atomic_folder(out) as tmp:
+        buffer = io.BytesIO()
+        np.savez(buffer, **_npz_arrays(pred))
+        atomic_write_bytes(tmp / "result.npz", buffer.getvalue())
+        text = json.dumps(pred.summary, indent=2, sort_keys=True, default=_json_default)
+        atomic_write_text(tmp / "summary.json", text + "\n")
+        write_motion(tmp / "motion.mot", pred)
+        write_grf(tmp / "grf.mot", pred, xml_path=tmp / "grf.xml")
+        if extra is not None:
+            extra(tmp)
+        files = {p.name: p.stat().st_size for p in sorted(tmp.iterdir()) if p.is_file()}
+        manifest = {"walk3d": __version__, "files": files}
+        atomic_write_text(tmp / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
     return out
+
+
+def check_complete(out_dir: str | PathLike[str]) -> None:
+    """Raise :class:`DataFileError` unless ``out_dir`` is a complete result folder: its
+    ``manifest.json`` is readable and every file it lists is there with the listed size."""
+    out = Path(out_dir)
+    path = out / MANIFEST
+    if not out.is_dir():
+        raise DataFileError(out, "not a result folder")
+    try:
+        manifest = json.loads(path.read_text(encoding="utf-8"))
+        files = dict(manifest["files"])
+    except FileNotFoundError:
+        raise DataFileError(
+            out, f"incomplete result folder: no {MANIFEST} (written last by walk3d predict)"
+        ) from None
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise DataFileError(path, f"unreadable manifest ({type(exc).__name__})") from None
+    for name in (*RESULT_FILES, *files):
+        f = out / name
+        if not f.is_file():
+            raise DataFileError(out, f"incomplete result folder: {name} is missing")
+        if name in files and f.stat().st_size != files[name]:
+            raise DataFileError(
+                f, f"incomplete result file: {f.stat().st_size} bytes, manifest says {files[name]}"
+            )
 
 
 def load_result(out_dir: str | PathLike[str]) -> Prediction:
     """Read a result folder written by :func:`save_prediction` back into a :class:`Prediction`.
 
     Raises:
-        FileNotFoundError: ``result.npz`` or ``summary.json`` is missing.
-        DataFileError: ``result.npz`` lacks an array or ``summary.json`` is not valid JSON.
+        DataFileError: the folder is incomplete (:func:`check_complete`), ``result.npz`` lacks
+            an array or ``summary.json`` is not valid JSON.
     """
+    check_complete(out_dir)
     out = Path(out_dir)
     npz_path = out / "result.npz"
     summary_path = out / "summary.json"
-    if not summary_path.is_file():
-        raise FileNotFoundError(f"no summary.json in {out}")
     try:
         summary = json.loads(summary_path.read_text(encoding="utf-8"))
     except json.JSONDecodeError as exc:
