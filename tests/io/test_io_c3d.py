@@ -15,8 +15,9 @@ ezc3d = pytest.importorskip("ezc3d")
 N_FRAMES, POINT_RATE, ANALOG_RATE = 20, 100.0, 1000.0
 
 
-def _write_synthetic(path: Path) -> np.ndarray:
-    """Two markers in mm moving 1 m/s along x, six plate channels; returns positions (m)."""
+def _write_synthetic(path: Path, bad_fz: float | None = None) -> np.ndarray:
+    """Two markers in mm moving 1 m/s along x, six plate channels; returns positions (m).
+    ``bad_fz`` replaces Fz in analog samples 31-40."""
     t = np.arange(N_FRAMES) / POINT_RATE
     pos_m = np.zeros((N_FRAMES, 2, 3))
     pos_m[:, 0] = np.column_stack([t, np.full_like(t, 0.05), np.full_like(t, 0.1)])
@@ -27,6 +28,8 @@ def _write_synthetic(path: Path) -> np.ndarray:
     channels[:, 2] = -700.0  # plate pushed down by 700 N
     channels[:, 3] = 700.0 * 50.0  # Mx, N mm: centre of pressure 50 mm off centre in y
     channels[:, 4] = -700.0 * 100.0  # My, N mm: 100 mm off centre in x
+    if bad_fz is not None:
+        channels[30:40, 2] = bad_fz
     corners = np.array([[300, 200, 0], [-300, 200, 0], [-300, -200, 0], [300, -200, 0]], float)
     write_c3d(path, point_rate=POINT_RATE, labels=("HEEL", "TOE"), points=points,
               analog_rate=ANALOG_RATE, plates=[channels], corners=[corners],
@@ -86,3 +89,15 @@ def test_not_a_c3d(tmp_path: Path) -> None:
         read_c3d(path)
     with pytest.raises(FileNotFoundError):
         read_c3d(tmp_path / "missing.c3d")
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -500.0])
+def test_non_finite_analog_samples_are_refused_naming_channel_and_sample(tmp_path, bad) -> None:
+    path = tmp_path / "walk.c3d"
+    _write_synthetic(path, bad_fz=bad)
+    if np.isfinite(bad):  # control: a finite odd value is data, not an error
+        assert read_c3d(path).analogs.channel("Fz1")[30] == bad
+        return
+    with pytest.raises(DataFileError, match=r"^walk\.c3d: analog channel 'Fz1' is not finite "
+                       r"in 10 samples, first at sample 31$"):  # fmt: skip
+        read_c3d(path)

@@ -45,6 +45,13 @@ def test_bad_cycle_table(tmp_path: Path, falisse: Path) -> None:
     path.write_text("\n".join(corrupt) + "\n")
     with pytest.raises(DataFileError, match=r"^bad\.csv:6: value 'abc.*' in pelvis_tilt_deg_mean"):
         read_cycle_table(path)
+    for token in ("nan", "inf", "-Infinity"):
+        corrupt = list(lines)
+        cells = lines[7].split(",")
+        corrupt[7] = ",".join([*cells[:3], token, *cells[4:]])
+        path.write_text("\n".join(corrupt) + "\n")
+        with pytest.raises(DataFileError, match=rf"^bad\.csv:8: value '{token}' in .* not finite"):
+            read_cycle_table(path)
     path.write_text("\n".join(lines[:50] + [lines[50][:40]]) + "\n")
     with pytest.raises(DataFileError, match=r"^bad\.csv:51: expected 71 values"):
         read_cycle_table(path)

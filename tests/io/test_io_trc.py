@@ -58,3 +58,16 @@ def test_trc_frame_count_and_number(tmp_path: Path, subject01: Path) -> None:
     bad.write_text("\n".join(lines) + "\n")
     with pytest.raises(DataFileError, match=r"^bad\.trc:11: value 'x0.\d+' in column 2"):
         read_trc(bad)
+
+
+def test_an_infinite_marker_value_is_refused(tmp_path: Path, subject01: Path) -> None:
+    lines = (subject01 / "subject01_walk1.trc").read_text().splitlines()
+    cells = lines[8].split("\t")
+    cells[4] = "inf"
+    bad = tmp_path / "bad.trc"
+    bad.write_text("\n".join([*lines[:8], "\t".join(cells), *lines[9:]]) + "\n")
+    with pytest.raises(DataFileError, match=r"^bad\.trc:9: value 'inf' in column 5 is not finite"):
+        read_trc(bad)
+    cells[4] = "nan"  # control: an explicit NaN is a gap, as an empty cell is
+    bad.write_text("\n".join([*lines[:8], "\t".join(cells), *lines[9:]]) + "\n")
+    assert np.isnan(read_trc(bad).positions[2, 0, 2])

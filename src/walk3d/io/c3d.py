@@ -11,10 +11,12 @@ ezc3d silently returns the frames it could read.
 
 from __future__ import annotations
 
+import math
 import struct
 from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -104,18 +106,54 @@ class C3dData:
 
 
 def _raw_frames(path: Path) -> tuple[int, int] | None:
-    """First and last frame from the C3D header, or ``None`` when they do not look usable."""
+    """First and last frame from the C3D header, or ``None`` when they do not look usable.
+
+    Also walks the parameter section (:func:`_check_parameters`) so that a damaged one is
+    refused here rather than sending ezc3d into an endless loop.
+    """
     with path.open("rb") as handle:
         head = handle.read(512)
-        if len(head) < 512 or head[1] != 0x50:
+        if len(head) < 512 or head[1] != 0x50 or head[0] < 1:
             raise DataFileError(path, "not a C3D file (bad header block)")
-        handle.seek((head[0] - 1) * 512 + 3)
-        proc = handle.read(1)
-    endian = ">" if proc and proc[0] == 86 else "<"  # 84 Intel, 85 DEC, 86 MIPS
+        handle.seek((head[0] - 1) * 512)
+        section = handle.read(4)
+        if len(section) < 4:
+            raise DataFileError(path, "the parameter section is missing (truncated file)")
+        section += handle.read(max(section[2], 1) * 512 - 4)
+    endian = ">" if section[3] == 86 else "<"  # 84 Intel, 85 DEC, 86 MIPS
+    _check_parameters(path, section, endian)
     first, last = struct.unpack(endian + "HH", head[6:10])
     if last == 0xFFFF or last < first:
         return None
     return first, last
+
+
+def _check_parameters(path: Path, section: bytes, endian: str) -> None:
+    """Refuse a parameter section whose entries point backwards or outside it, or whose data
+    do not fit their entry (C3D format: name length, id, name, int16 offset to the next)."""
+    pos, end = 4, len(section)
+    while pos + 2 <= end:
+        n, ident = abs(struct.unpack("b", section[pos : pos + 1])[0]), section[pos + 1]
+        if n == 0:
+            return
+        at = pos + 2 + n
+        if at + 2 > end:
+            raise DataFileError(path, "the parameter section is damaged (truncated entry)")
+        (offset,) = struct.unpack(endian + "h", section[at : at + 2])
+        if offset == 0:
+            return
+        nxt = at + offset
+        if offset < 0 or nxt > end:
+            raise DataFileError(path, "the parameter section is damaged (an entry points "
+                                      "outside it)")  # fmt: skip
+        if ident < 128 and at + 4 <= nxt:  # a parameter: type, dimensions, data
+            kind, ndim = struct.unpack("bB", section[at + 2 : at + 4])
+            dims = section[at + 4 : at + 4 + ndim]
+            size = abs(kind) * int(np.prod(list(dims), dtype=np.int64))
+            if kind not in (-1, 1, 2, 4) or at + 4 + ndim + size > nxt:
+                raise DataFileError(path, "the parameter section is damaged (a parameter's "
+                                          "data do not fit its entry)")  # fmt: skip
+        pos = nxt
 
 
 def _platforms_used(params: object) -> bool:
@@ -125,6 +163,17 @@ def _platforms_used(params: object) -> bool:
     group = params["FORCE_PLATFORM"]  # type: ignore[index]
     used = np.ravel(group["USED"]["value"]) if "USED" in group else []
     return bool(len(used)) and int(used[0]) > 0
+
+
+def _check_finite(path: Path, values: np.ndarray, labels: tuple[str, ...], what: str) -> None:
+    """Refuse NaN or infinite samples (time first), naming the first channel and frame."""
+    bad = ~np.isfinite(values)
+    if not bad.any():
+        return
+    frame, channel = np.argwhere(bad)[0]
+    name = labels[channel] if channel < len(labels) else f"#{channel + 1}"
+    raise DataFileError(path, f"{what} {name!r} is not finite in {int(bad[:, channel].sum())} "
+                              f"samples, first at sample {frame + 1}")  # fmt: skip
 
 
 def _labels(group: dict, key: str) -> tuple[str, ...]:
@@ -166,8 +215,21 @@ def read_c3d(path: str | PathLike[str], *, force_platforms: bool = True) -> C3dD
         raw_platforms = []
         if force_platforms and _platforms_used(c3d["parameters"]):
             raw_platforms = ezc3d.c3d(str(path), extract_forceplat_data=True)["data"]["platform"]
-    except (RuntimeError, OSError, ValueError) as exc:
+    except (RuntimeError, OSError, ValueError, IndexError, KeyError, TypeError) as exc:
         raise DataFileError(path, f"force platform data unusable: {exc}") from None
+    try:
+        return _interpret(path, c3d, raw_platforms, frames)
+    except DataFileError:
+        raise
+    except (ValueError, IndexError, KeyError, TypeError, AttributeError) as exc:
+        reason = " ".join(f"{type(exc).__name__}: {exc}".split())[:200]
+        raise DataFileError(path, f"inconsistent C3D content ({reason})") from None
+
+
+def _interpret(
+    path: Path, c3d: Any, raw_platforms: list, frames: tuple[int, int] | None
+) -> C3dData:
+    """Points, analogs and platforms of an ezc3d object in walk3d's units."""
     params = c3d["parameters"]
     raw_points = np.asarray(c3d["data"]["points"], dtype=float)
     n = raw_points.shape[2]
@@ -199,6 +261,11 @@ def read_c3d(path: str | PathLike[str], *, force_platforms: bool = True) -> C3dD
     analog_rate = float(rate_values[0]) if len(rate_values) else 0.0
     analog_values = np.zeros((0, 0)) if values is None else values.T
     analog_labels = _labels(analog_group, "LABELS")[: analog_values.shape[1]]
+    _check_finite(path, analog_values, analog_labels, "analog channel")
+    if not (math.isfinite(point_rate) and point_rate > 0):
+        raise DataFileError(path, f"the point rate {point_rate!r} is not a positive number")
+    if analog_values.size and not (math.isfinite(analog_rate) and analog_rate > 0):
+        raise DataFileError(path, f"the analog rate {analog_rate!r} is not a positive number")
     analogs = AnalogData(
         analog_labels,
         analog_rate,

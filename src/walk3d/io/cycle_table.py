@@ -14,6 +14,7 @@ Two layouts are recognised:
 from __future__ import annotations
 
 import csv
+import math
 import re
 from dataclasses import dataclass, field
 from os import PathLike
@@ -92,9 +93,12 @@ def _unit_token(text: str) -> str:
 
 def _to_float(path: Path, line: int, cell: str, what: str) -> float:
     try:
-        return float(cell)
+        value = float(cell)
     except ValueError:
         raise DataFileError(path, f"value {cell!r} in {what} is not a number", line) from None
+    if not math.isfinite(value):
+        raise DataFileError(path, f"value {cell!r} in {what} is not finite", line)
+    return value
 
 
 def _read_wide(path: Path, rows: list[tuple[int, list[str]]]) -> CycleTable:

@@ -10,6 +10,7 @@ missing (occluded) coordinate and becomes NaN. Files without any tab are split o
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
@@ -131,11 +132,15 @@ def read_trc(path: str | PathLike[str]) -> TrcData:
                 row.append(np.nan)
                 continue
             try:
-                row.append(float(cell))
+                value = float(cell)
             except ValueError:
                 raise DataFileError(
                     path, f"value {cell!r} in column {k + 1} is not a number", number_
                 ) from None
+            if math.isinf(value) or (k < 2 and math.isnan(value)):
+                raise DataFileError(path, f"value {cell!r} in column {k + 1} is not finite",
+                                    number_)  # fmt: skip
+            row.append(value)
         rows.append(row)
     if len(rows) != n_frames:
         raise DataFileError(path, f"NumFrames is {n_frames} but {len(rows)} rows found", last)
