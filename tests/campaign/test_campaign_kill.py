@@ -62,3 +62,30 @@ def test_kill_and_resume(tmp_path):
         assert path.read_bytes() == data, f"{path} changed on resume"
     ranking = (out / "ranking.csv").read_text().splitlines()
     assert len(ranking) == 1 + STARTS
+
+
+def test_ctrl_c_stops_a_campaign_with_one_line_and_keeps_finished_starts(tmp_path):
+    """SIGINT to the whole process group, as a terminal's Ctrl-C: a line, code 130, the
+    finished starts stay, and the resume runs only the others."""
+    out = tmp_path / "c"
+    env = os.environ | {"OPENBLAS_NUM_THREADS": "1"}
+    proc = subprocess.Popen(_command(out), start_new_session=True, env=env, text=True,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)  # fmt: skip
+    try:
+        deadline = time.monotonic() + 150
+        while len(_finished(out)) < 1:
+            assert proc.poll() is None, "campaign ended before Ctrl-C"
+            assert time.monotonic() < deadline, "no start finished in time"
+            time.sleep(0.05)
+        os.killpg(proc.pid, signal.SIGINT)
+        t0 = time.monotonic()
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert proc.returncode == 130, err
+    assert time.monotonic() - t0 < 30
+    assert "walk3d: interrupted" in err.splitlines()[-1] and "Traceback" not in err, err
+    done = _finished(out)
+    assert 1 <= len(done) < STARTS and all((d / store.RECORD_FILE).is_file() for d in done)
+    assert not (out / "best").exists()  # no ranking or best/ of an interrupted run

@@ -142,6 +142,7 @@ def _client(workers: int | None, scheduler: str | None, pending: int) -> Iterato
         ) as cluster,
         Client(cluster) as client,
     ):
+        client.register_plugin(task.IgnoreInterrupt())
         yield client
 
 

@@ -22,12 +22,14 @@ import traceback
 from pathlib import Path
 from typing import Any
 
+from distributed.diagnostics.plugin import WorkerPlugin
+
 from walk3d.campaign import store
 from walk3d.problem import terms
 from walk3d.problem.settings import flat_settings
 
-__all__ = ["ENVIRONMENT", "NUMERICS", "error_record", "failure_kind", "record_from_summary",
-           "run_start"]  # fmt: skip
+__all__ = ["ENVIRONMENT", "NUMERICS", "IgnoreInterrupt", "error_record", "failure_kind",
+           "record_from_summary", "run_start"]  # fmt: skip
 
 FAIL_ENV = "WALK3D_CAMPAIGN_FAIL_SEEDS"
 CRASH_ENV = "WALK3D_CAMPAIGN_CRASH_SEEDS"
@@ -45,6 +47,21 @@ def failure_kind(exc: BaseException) -> str:
     if isinstance(exc, (OSError, MemoryError)) or type(exc).__name__ == "KilledWorker":
         return ENVIRONMENT
     return NUMERICS
+
+
+class IgnoreInterrupt(WorkerPlugin):
+    """Dask worker plugin: the worker processes ignore SIGINT, so that a terminal's Ctrl-C,
+    sent to the whole process group, is handled by the campaign's main process alone (it stops
+    the cluster) instead of printing a traceback from every worker."""
+
+    name = "walk3d-ignore-sigint"
+
+    def setup(self, worker: object) -> None:
+        import signal
+        import threading
+
+        if threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _env_seeds(name: str) -> set[int]:
