@@ -34,7 +34,6 @@ from typing import Any
 
 import numpy as np
 
-from walk3d import __version__
 from walk3d.io._atomic import atomic_folder, atomic_write_bytes, atomic_write_text
 from walk3d.io.errors import DataFileError
 from walk3d.results.opensim import write_grf, write_motion
@@ -211,7 +210,7 @@ def save_prediction(
         if extra is not None:
             extra(tmp)
         files = {p.name: p.stat().st_size for p in sorted(tmp.iterdir()) if p.is_file()}
-        manifest = {"walk3d": __version__, "files": files}
+        manifest = {"files": files}
         atomic_write_text(tmp / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
     return out
 
