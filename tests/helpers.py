@@ -55,3 +55,16 @@ def shared_data_dir() -> Path:
     """``$WALK3D_SHARED_DATA`` if set, else ``../shared/data`` beside the repository."""
     env = os.environ.get("WALK3D_SHARED_DATA")
     return Path(env) if env else Path(__file__).resolve().parents[1].parent / "shared" / "data"
+
+
+def storage_with_nan(src: Path, dst: Path, column: str, rows: range) -> Path:
+    """A copy of the storage ``src`` with NaN in ``column`` at the given data rows."""
+    lines = src.read_text().splitlines()
+    head = next(i for i, line in enumerate(lines) if line.strip().lower() == "endheader") + 1
+    k = lines[head].split().index(column)
+    for r in rows:
+        tokens = lines[head + 1 + r].split()
+        tokens[k] = "nan"
+        lines[head + 1 + r] = "\t".join(tokens)
+    dst.write_text("\n".join(lines) + "\n")
+    return dst

@@ -3,22 +3,9 @@ naming the file and the column, exit code 2, before any solve (issue: no silent 
 
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
-
-
-def _with_nan(src: Path, dst: Path, column: str, rows: range) -> Path:
-    """A copy of the storage ``src`` with NaN in ``column`` at the given data rows."""
-    lines = src.read_text().splitlines()
-    head = next(i for i, line in enumerate(lines) if line.strip().lower() == "endheader") + 1
-    k = lines[head].split().index(column)
-    for r in rows:
-        tokens = lines[head + 1 + r].split()
-        tokens[k] = "nan"
-        lines[head + 1 + r] = "\t".join(tokens)
-    dst.write_text("\n".join(lines) + "\n")
-    return dst
+from helpers import storage_with_nan
 
 
 def _run(*args: str) -> subprocess.CompletedProcess:
@@ -32,7 +19,7 @@ def _run(*args: str) -> subprocess.CompletedProcess:
 )
 def test_predict_from_a_trial_with_nan_is_refused(falisse, tmp_path, kind, column, rows):
     ik, grf = falisse / "gait_1_ik.mot", falisse / "gait_1_grf.mot"
-    bad = _with_nan(ik if kind == "ik" else grf, tmp_path / f"bad_{kind}.mot", column, rows)
+    bad = storage_with_nan(ik if kind == "ik" else grf, tmp_path / f"bad_{kind}.mot", column, rows)
     files = (bad, grf) if kind == "ik" else (ik, bad)
     r = _run("predict", "--from-trial", str(files[0]), "--grf", str(files[1]),
              "--out", str(tmp_path / "out"))  # fmt: skip
@@ -44,7 +31,7 @@ def test_predict_from_a_trial_with_nan_is_refused(falisse, tmp_path, kind, colum
 
 
 def test_calibrate_with_nan_in_the_vertical_force_is_refused(falisse, tmp_path):
-    grf = _with_nan(falisse / "gait_1_grf.mot", tmp_path / "bad_grf.mot", "ground_force_vy",
+    grf = storage_with_nan(falisse / "gait_1_grf.mot", tmp_path / "bad_grf.mot", "ground_force_vy",
                     range(2000, 2051))  # fmt: skip
     r = _run("calibrate", "--ik", str(falisse / "gait_1_ik.mot"), "--grf", str(grf),
              "--out", str(tmp_path / "calib.json"))  # fmt: skip

@@ -4,6 +4,7 @@ import subprocess
 import sys
 
 import pytest
+from helpers import storage_with_nan
 from validation_support import cli_env
 
 from walk3d.results.prediction import save_prediction
@@ -36,6 +37,15 @@ def test_an_incomplete_result_folder_is_refused(pred_dir, tmp_path, falisse):
     (bad / "motion.mot").unlink()  # what a crash between two files left before atomic folders
     r = _run("validate", bad, "--reference", falisse / "cycle_right_leg_mean_sd.csv")
     _one_line_error(r, "incomplete result folder: motion.mot is missing")
+
+
+def test_nan_in_a_reference_ik_file_is_refused_naming_file_and_column(pred_dir, tmp_path, falisse):
+    bad = storage_with_nan(falisse / "gait_1_ik.mot", tmp_path / "bad_ik.mot", "knee_angle_r",
+                           range(40, 60))  # fmt: skip
+    r = _run("validate", pred_dir, "--reference", bad, "--reference",
+             falisse / "gait_1_grf.mot", "--out", tmp_path / "v")  # fmt: skip
+    _one_line_error(r, "bad_ik.mot", "knee_angle_r", "data row 41")
+    assert "quaternions" not in r.stderr
 
 
 def test_malformed_cycle_table(pred_dir, tmp_path):
