@@ -89,3 +89,4 @@ def test_ctrl_c_stops_a_campaign_with_one_line_and_keeps_finished_starts(tmp_pat
     done = _finished(out)
     assert 1 <= len(done) < STARTS and all((d / store.RECORD_FILE).is_file() for d in done)
     assert not (out / "best").exists()  # no ranking or best/ of an interrupted run
+    assert not list(out.rglob(".tmp_*"))  # the interrupted starts leave no partial folder

@@ -227,8 +227,13 @@ def run_campaign(
             bar.update(job, advance=1, note=_note(records, criterion))
 
         if pending:
-            with _client(workers, scheduler, len(pending)) as client:
-                _run_pending(client, settings, pending, solver, out, records, advance)
+            try:
+                with _client(workers, scheduler, len(pending)) as client:
+                    _run_pending(client, settings, pending, solver, out, records, advance)
+            except BaseException:
+                if not scheduler:  # the local workers are gone: their temporaries are partial
+                    store.clean_temporaries(out)
+                raise
     # every task has ended: a temporary left now is a killed worker's, not a running one's
     removed += store.clean_temporaries(out)
     rows = ranking.rank(out)
