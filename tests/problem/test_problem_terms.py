@@ -103,6 +103,29 @@ def test_every_term_is_reported_with_its_split_and_the_weighted_total(cycle):
     assert c["C_impact"]["x"] == 0 and c["C_impact"]["z"] == 0
 
 
+def test_arms_term_is_the_accel_term_over_the_arm_dofs_on_its_own_scale(cycle):
+    s, body, x, ev = cycle
+    T = s.gait.period
+    t = np.linspace(0.0, T, 4001)[:-1]
+    a2 = layout.coordinate_maps(t, T)[2] @ x
+    arm = [i for i, n in enumerate(body.dof_names) if n.startswith(("arm_", "elbow"))]
+    assert len(arm) == 8
+    exact = np.mean(np.sum((2 * a2[:, arm] / terms.ARM_ACCEL_REF) ** 2, axis=1) / 8) * T
+    assert ev.criteria["C_arms"]["total"] == pytest.approx(exact, rel=1e-9)
+    legs = [i for i, n in enumerate(body.dof_names) if n.startswith(("hip", "knee"))]
+    other = np.mean(np.sum((2 * a2[:, legs] / terms.ARM_ACCEL_REF) ** 2, axis=1) / 8) * T
+    assert other != pytest.approx(exact, rel=1e-6)  # negative control: other DoFs differ
+
+
+def test_spin_is_the_vertical_part_of_the_momentum_term_on_its_own_scale(cycle):
+    _, _, _, ev = cycle
+    spin, mom = ev.criteria["C_spin"], ev.criteria["C_momentum"]
+    scale = (terms.MOMENTUM_REF / terms.SPIN_REF) ** 2
+    assert spin["x"] == 0 and spin["z"] == 0
+    assert spin["y"] == pytest.approx(mom["y"] * scale, rel=1e-12)
+    assert spin["y"] != pytest.approx(mom["total"] * scale, rel=1e-3)  # not the whole momentum
+
+
 def test_impact_and_shear_terms_integrate_the_reported_ground_reactions(cycle):
     """C_impact = ∫ (max(ΣF_y / (m g) − 1, 0) / 0.25)² dt and C_shear = ∫ (ΣF_x² + ΣF_z²) /
     (0.25 m g)² dt over the feet's reported forces (which tests/results check against the
@@ -117,6 +140,11 @@ def test_impact_and_shear_terms_integrate_the_reported_ground_reactions(cycle):
     assert np.sum((above / terms.IMPACT_REF) ** 2) * dt == pytest.approx(got, rel=1e-9)
     both = np.sum(((f[:, 1] - 1) / terms.IMPACT_REF) ** 2) * dt  # two-sided: not this term
     assert both != pytest.approx(got, rel=1e-3)
+    below = np.maximum(1 - f[:, 1], 0)
+    assert np.sum((below / terms.IMPACT_REF) ** 2) * dt == pytest.approx(
+        ev.criteria["C_sag"]["total"], rel=1e-9
+    )
+    assert both == pytest.approx(got + ev.criteria["C_sag"]["total"], rel=1e-9)  # the two halves
     shear = np.sum((f[:, 0] ** 2 + f[:, 2] ** 2) / terms.SHEAR_REF**2) * dt
     assert ev.criteria["C_shear"]["total"] == pytest.approx(shear, rel=1e-9)
     assert ev.criteria["C_shear"]["y"] == 0

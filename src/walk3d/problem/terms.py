@@ -14,13 +14,20 @@ scores about 1 per second on every term and weights near 1 give comparable contr
   acceleration (gravity excluded) and angular velocity in the global frame;
 * ``impact``: ``(max(F_y / body weight − 1, 0) / 0.25)²``, the total vertical ground reaction
   above body weight (the heel-strike and push-off peaks; the mid-stance dip is free);
+* ``sag``: ``(max(1 − F_y / body weight, 0) / 0.25)²``, the same below body weight (the
+  mid-stance dip; the force's mean is body weight, so a deep dip needs high peaks);
 * ``shear``: ``(F_x² + F_z²) / (0.25 body weight)²``, the total horizontal ground reaction
   (braking, propulsion, lateral): the horizontal acceleration of the centre of mass;
 * ``pose``: ``(1/12) Σ_i ((2 q_i − θ0_i) / 0.25 rad)²`` over the trunk, neck, shoulder and
   elbow DoFs, the deviation from a relaxed standing posture ``θ0`` (elbow 20°, others 0);
 * ``pelvis``: ``|ω_pelvis|² / (0.7 rad/s)²``, the pelvis angular velocity in the global frame;
 * ``momentum``: ``|H_com|² / (0.02 m h 1.3 m/s)²``, the whole body's angular momentum about its
-  centre of mass (arms swinging against the legs cancel its vertical part).
+  centre of mass;
+* ``spin``: ``H_y² / (0.006 m h 1.3 m/s)²``, its vertical part alone, which arms swinging
+  against the legs cancel (the sagittal part dominates ``momentum``);
+* ``arms``: ``(1/8) Σ_i (2 q̈_i / 3 rad/s²)²`` over the shoulder and elbow DoFs, the arms'
+  angular accelerations on the scale of a measured arm swing (it keeps the arms from swinging
+  at twice the stride frequency to offset the trunk's fore-aft ground reaction).
 
 Written on component tuples (:mod:`walk3d.mathops`): one code for the NLP nodes (CasADi) and
 the evaluated cycle (NumPy).
@@ -44,11 +51,17 @@ from walk3d.problem import layout
 BASES = ("tor", "en")
 """The paper's criteria; a weighted criterion holds exactly one of them (its absolute values
 are the exact slack variables of the NLP)."""
-EXTRAS = ("accel", "jerk", "head", "impact", "shear", "pose", "pelvis", "momentum")
+EXTRAS = ("accel", "jerk", "head", "impact", "sag", "shear", "pose", "pelvis", "momentum",
+          "spin", "arms")  # fmt: skip
 """Terms that can be added to a base, in the order they are reported."""
 ACCEL_REF = 15.0
 """rad/s²: RMS joint angular acceleration over the DoFs of a measured adult (Falisse 2019
 ``gait_1``, 6 Hz low-pass: 15.9 rad/s²)."""
+ARM_ACCEL_REF = 3.0
+"""rad/s²: RMS angular acceleration of a walking adult's shoulder flexion, whose swing is about
+±5° at the stride frequency (Falisse 2019 ``gait_1``: 5.0° first harmonic, 1.2° second)."""
+ARM_DOFS = ("arm_", "elbow")
+"""Prefixes of the DoFs the arms term covers: both shoulders (3 each) and elbows."""
 JERK_REF = 400.0
 """rad/s³: RMS joint angular jerk over the DoFs of a measured adult (Falisse 2019 ``gait_1``,
 6 Hz low-pass)."""
@@ -65,6 +78,10 @@ POSE_REF = 0.25
 MOMENTUM_REF = 0.02
 """Whole-body angular momentum about the centre of mass, in units of body mass × stature ×
 1.3 m/s: people keep it within about ±0.02–0.05 of that in walking (Herr & Popovic 2008)."""
+SPIN_REF = 0.006
+"""The vertical part of the whole-body angular momentum, same units as :data:`MOMENTUM_REF`:
+the RMS of the `natural` preset's walk on the Falisse subject without this term (arms that
+swing against the legs lower it)."""
 PELVIS_RATE_REF = 0.7
 """rad/s: RMS pelvis angular velocity of a measured adult (Falisse 2019 ``gait_1``: 0.71)."""
 NEUTRAL_DEG = {"elbow_flex": 20.0}
@@ -72,8 +89,8 @@ NEUTRAL_DEG = {"elbow_flex": 20.0}
 POSE_DOFS = ("lumbar", "neck", "arm_", "elbow")
 """Prefixes of the DoFs the pose term covers: trunk, neck, shoulders and elbows."""
 PRESETS: dict[str, dict[str, float]] = {
-    "natural": {"tor": 1.0, "accel": 0.5, "jerk": 0.5, "head": 0.5, "impact": 1.5, "shear": 1.0,
-                "pose": 0.5, "pelvis": 0.5},
+    "natural": {"tor": 1.0, "accel": 0.5, "jerk": 0.5, "head": 0.5, "impact": 5.0, "shear": 1.0,
+                "pose": 0.5, "pelvis": 1.0, "spin": 2.0, "arms": 1.0},
 }  # fmt: skip
 """Named weighted criteria (docs/criteria.md: how the weights were chosen)."""
 DEFAULT_PRESET = "natural"
@@ -180,19 +197,27 @@ def integrands(
     wf = body.mass * G
     above = mo.fmax(force[1] / wf - 1.0, zero)
     impact = (zero, (above / IMPACT_REF) ** 2, zero)
+    below = mo.fmax(1.0 - force[1] / wf, zero)
+    sag = (zero, (below / IMPACT_REF) ** 2, zero)
     shear = ((force[0] / (wf * SHEAR_REF)) ** 2, zero, (force[2] / (wf * SHEAR_REF)) ** 2)
     targets = _pose_targets(body)
     posture = [zero, zero, zero]
     for i, theta0 in targets:
         dev = (2.0 * coords[i][0] - theta0) / POSE_REF
         posture[axes[i]] = posture[axes[i]] + dev**2 / len(targets)
+    arm = [i for i, name in enumerate(body.dof_names) if name.startswith(ARM_DOFS)]
+    arms = [zero, zero, zero]
+    for i in arm:
+        arms[axes[i]] = arms[axes[i]] + (2.0 * coords[i][2] / ARM_ACCEL_REF) ** 2 / len(arm)
     h = angular_momentum(body, pose)
     h_ref = MOMENTUM_REF * body.mass * body.height * 1.3
     momentum = tuple((h[k] / h_ref) ** 2 for k in range(3))
+    spin = (zero, (h[1] / (SPIN_REF * body.mass * body.height * 1.3)) ** 2, zero)
     w_p = pose.omega[body.segment_index("pelvis")]
     pelvis = tuple((w_p[k] / PELVIS_RATE_REF) ** 2 for k in range(3))
-    return {"accel": tuple(acc), "head": head, "impact": impact, "shear": shear,
-            "pose": tuple(posture), "pelvis": pelvis, "momentum": momentum}  # fmt: skip
+    return {"accel": tuple(acc), "head": head, "impact": impact, "sag": sag, "shear": shear,
+            "pose": tuple(posture), "pelvis": pelvis, "momentum": momentum,
+            "spin": spin, "arms": tuple(arms)}  # fmt: skip
 
 
 def _jerk_per_coefficient(period: float) -> np.ndarray:
