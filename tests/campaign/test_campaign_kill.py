@@ -30,17 +30,22 @@ def _group_alive(pgid):
     return True
 
 
+def _wait_for_finished(proc, out, count, why):
+    """Wait until ``count`` starts are stored, failing if the campaign ends first."""
+    deadline = time.monotonic() + 150
+    while len(_finished(out)) < count:
+        assert proc.poll() is None, f"campaign ended before {why}"
+        assert time.monotonic() < deadline, f"no {count} starts finished in time"
+        time.sleep(0.05)
+
+
 def test_kill_and_resume(tmp_path):
     out = tmp_path / "c"
     env = os.environ | {"OPENBLAS_NUM_THREADS": "1"}
     proc = subprocess.Popen(_command(out), start_new_session=True, env=env,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
     try:
-        deadline = time.monotonic() + 150
-        while len(_finished(out)) < 2:
-            assert proc.poll() is None, "campaign ended before it could be killed"
-            assert time.monotonic() < deadline, "no two starts finished in time"
-            time.sleep(0.05)
+        _wait_for_finished(proc, out, 2, "it could be killed")
     finally:
         os.killpg(proc.pid, signal.SIGKILL)
         proc.wait(timeout=30)
@@ -66,17 +71,13 @@ def test_kill_and_resume(tmp_path):
 
 def test_ctrl_c_stops_a_campaign_with_one_line_and_keeps_finished_starts(tmp_path):
     """SIGINT to the whole process group, as a terminal's Ctrl-C: a line, code 130, the
-    finished starts stay, and the resume runs only the others."""
+    finished starts stay and no temporary is left."""
     out = tmp_path / "c"
     env = os.environ | {"OPENBLAS_NUM_THREADS": "1"}
     proc = subprocess.Popen(_command(out), start_new_session=True, env=env, text=True,
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)  # fmt: skip
     try:
-        deadline = time.monotonic() + 150
-        while len(_finished(out)) < 1:
-            assert proc.poll() is None, "campaign ended before Ctrl-C"
-            assert time.monotonic() < deadline, "no start finished in time"
-            time.sleep(0.05)
+        _wait_for_finished(proc, out, 1, "Ctrl-C")
         os.killpg(proc.pid, signal.SIGINT)
         t0 = time.monotonic()
         _, err = proc.communicate(timeout=60)
