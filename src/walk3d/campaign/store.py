@@ -22,13 +22,18 @@ import json
 import math
 import os
 import re
-import secrets
 import shutil
 from pathlib import Path
 from typing import Any
 
 from walk3d import __version__
-from walk3d.io._atomic import TMP_PREFIX, atomic_folder, atomic_write_text, fsync_dir
+from walk3d.io._atomic import (
+    TMP_PREFIX,
+    atomic_folder,
+    atomic_write_text,
+    fsync_dir,
+    temporary_sibling,
+)
 from walk3d.problem.settings import PredictionSettings, flat_settings
 from walk3d.solve import SOLVE_REVISION
 
@@ -232,8 +237,7 @@ def forget_environment_failures(
 
 def new_temporary(parent: Path, name: str) -> Path:
     """Create and return an empty temporary folder ``parent/.tmp_<name>_<random>``."""
-    parent.mkdir(parents=True, exist_ok=True)
-    tmp = parent / f"{TMP_PREFIX}{name}_{secrets.token_hex(6)}"
+    tmp = temporary_sibling(parent, name)
     tmp.mkdir()
     return tmp
 

@@ -25,6 +25,7 @@ from typing import Any
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from walk3d.campaign import store
+from walk3d.io._atomic import temporary_sibling
 from walk3d.problem import terms
 from walk3d.problem.settings import flat_settings
 
@@ -164,7 +165,7 @@ def run_start(settings_dict: dict, seed: int, solver: str, starts_dir: str) -> d
         return existing
     criterion = str(flat_settings(settings_dict).get("criterion", "tor"))
     t0 = time.perf_counter()
-    tmp = store.new_temporary(root, store.start_name(seed))
+    tmp = temporary_sibling(root, store.start_name(seed))  # predict builds it atomically
     try:
         from walk3d import predict as predict_module
         from walk3d.problem.settings import PredictionSettings

@@ -19,6 +19,7 @@ __all__ = [
     "atomic_write_bytes",
     "atomic_write_text",
     "fsync_dir",
+    "temporary_sibling",
 ]
 
 
@@ -68,6 +69,12 @@ TMP_PREFIX = ".tmp_"
 """Name prefix of the temporary sibling folders that :func:`atomic_folder` builds in."""
 
 
+def temporary_sibling(parent: Path, name: str) -> Path:
+    """A fresh, not yet existing path ``parent/.tmp_<name>_<random>`` (parent created)."""
+    parent.mkdir(parents=True, exist_ok=True)
+    return parent / f"{TMP_PREFIX}{name}_{secrets.token_hex(6)}"
+
+
 def fsync_dir(folder: Path) -> None:
     """Flush a folder's entries to disk (a no-op where folders cannot be opened)."""
     try:
@@ -91,8 +98,7 @@ def atomic_folder(path: str | PathLike[str]) -> Iterator[Path]:
     failure the temporary is deleted and ``path`` is left as it was.
     """
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.parent / f"{TMP_PREFIX}{target.name}_{secrets.token_hex(6)}"
+    tmp = temporary_sibling(target.parent, target.name)
     tmp.mkdir()
     try:
         yield tmp
