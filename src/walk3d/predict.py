@@ -26,6 +26,27 @@ def _solved_as(settings: PredictionSettings) -> dict:
     }
 
 
+def descriptor_summary(settings: PredictionSettings) -> dict:
+    """Speed, period, double support, stride length (SI), cadence (steps/min), stance fraction,
+    and which of them were ``predicted``."""
+    g = settings.gait
+    return {"speed": g.speed, "period": g.period, "double_support": g.double_support,
+            "stride_length": g.stride_length, "cadence": 120.0 / g.period,
+            "stance_fraction": 0.5 + g.double_support / g.period,
+            "predicted": list(g.free)}  # fmt: skip
+
+
+def with_predicted(settings: PredictionSettings, found: dict[str, float]) -> PredictionSettings:
+    """The settings with the predicted descriptors in place of their first guess (still listed
+    in ``gait.free``), for evaluating and reporting the cycle."""
+    if not settings.gait.free:
+        return settings
+    gait = settings.gait.model_copy(
+        update={k: v for k, v in found.items() if k in settings.gait.free}
+    )
+    return settings.model_copy(update={"gait": gait})
+
+
 def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str) -> dict:
     """The JSON summary of a prediction (SI units, criteria exact, smoothed for reference)."""
     return {
@@ -33,6 +54,7 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "solve_revision": SOLVE_REVISION,
         "solved_as": _solved_as(settings),
         "settings": settings.model_dump(),
+        "descriptors": descriptor_summary(settings),
         "seed": seed,
         "method": solver,
         "converged": bool(outcome.converged),
@@ -80,6 +102,7 @@ def predict(
     from walk3d.solve import run_solver
 
     outcome = run_solver(settings, seed, solver, on_stage=on_stage)
+    settings = with_predicted(settings, outcome.descriptors)
     if on_stage:
         on_stage("evaluating the cycle")
     body = body_for(settings)

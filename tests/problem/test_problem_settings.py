@@ -23,15 +23,15 @@ balance_split arm_walking_ranges leg_walking_ranges threads loop_checks loop_che
 loop_check_tolerance rollover_s rollover_ankle transition_ratios perturbation restarts
 linear_solver hsl_library max_iter full_max_iter tol""".split()
 """The 37 fields of the flat settings that summary.json files before the groups record."""
-ADDED_SINCE = ["cop_margin", "swing_clearance", "heel_strike_nodes", "reject_crouch"]
-"""Fields added later (issue #23), with defaults, so older files still load."""
+ADDED_SINCE = ["cop_margin", "swing_clearance", "heel_strike_nodes", "reject_crouch", "free"]
+"""Fields added later (issues #23, #24), with defaults, so older files still load."""
 
 
 def test_every_setting_belongs_to_exactly_one_group():
     names = [f for cls in GROUPS.values() for f in cls.model_fields]
     assert len(names) == len(set(names))  # no field in two groups
     assert sorted(names) == sorted(FLAT_BEFORE_THE_GROUPS + ADDED_SINCE) == sorted(FIELD_GROUP)
-    assert {"speed", "period", "double_support", "mass", "height", "sex"} == set(
+    assert {"speed", "period", "double_support", "mass", "height", "sex", "free"} == set(
         GaitSettings.model_fields
     )
     assert "criterion" in ModelSettings.model_fields and "nodes" in SolverSettings.model_fields

@@ -33,7 +33,8 @@ COLUMNS = (
 """Columns of ``ranking.csv`` (``failure`` is empty for a converged start, ``numerics`` for a
 solve that failed or raised, which a rerun would repeat, and ``environment`` for a start stopped
 by disk, memory or a lost worker, which a resume runs again; ``criterion_value`` is the
-campaign's chosen criterion;
+campaign's chosen criterion, per cycle, or per metre walked when the period or double support is
+predicted (the solver's own objective, :mod:`walk3d.problem.descriptors`);
 ``looks_like_walking`` is :func:`walk3d.results.gait_checks.walking_checks`' verdict, empty
 for a start without a result)."""
 

@@ -90,13 +90,17 @@ def _split(value: Any) -> dict[str, float | None]:
 def record_from_summary(summary: dict, criterion: str, task_time_s: float) -> dict:
     """The campaign record of a finished prediction (from its ``summary.json`` dict)."""
     objective = summary.get("objective") or {}
+    value = _split(objective.get(terms.label(criterion)))["total"]
+    walked = (summary.get("descriptors") or {}).get("predicted") and summary["descriptors"]
+    if walked and isinstance(value, (int, float)):  # per metre: starts differ in their period
+        value = value / walked["stride_length"]
     record = {
         "seed": int(summary["seed"]),
         "status": str(summary.get("status")),
         "converged": bool(summary.get("converged")),
         "failure": "" if summary.get("converged") else NUMERICS,
         "criterion": criterion,
-        "criterion_value": _split(objective.get(terms.label(criterion)))["total"],
+        "criterion_value": value,
         "iterations": summary.get("iterations"),
         "wall_time_s": summary.get("wall_time_s"),
         "task_time_s": round(task_time_s, 3),

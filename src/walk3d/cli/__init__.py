@@ -1,8 +1,9 @@
 """The ``walk3d`` command line (Typer + Rich).
 
 Bad input gives one clear error line on stderr and exit code 2. Commands live in
-:mod:`walk3d.cli.commands` (body, predict, campaign) and :mod:`walk3d.cli.validation`
-(validate, calibrate); shared options in :mod:`walk3d.cli.common`.
+:mod:`walk3d.cli.commands` (body, predict, compile, cache),
+:mod:`walk3d.cli.campaign_command` and :mod:`walk3d.cli.validation` (validate, calibrate);
+shared options in :mod:`walk3d.cli.common`.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ import sys
 
 import typer
 
-from walk3d.cli import commands, validation  # noqa: F401  (register the commands)
+from walk3d.cli import campaign_command, commands, validation  # noqa: F401  (register them)
 from walk3d.cli.common import app, err_console, fail
 
 __all__ = ["app", "fail", "main"]

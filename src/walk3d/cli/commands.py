@@ -23,6 +23,7 @@ from walk3d.cli.common import (
     Mass,
     MaxIter,
     Nodes,
+    Paper,
     Period,
     Perturbation,
     Restarts,
@@ -34,6 +35,8 @@ from walk3d.cli.common import (
     check_output_folder,
     console,
     fail,
+    gait_fields,
+    paper_case,
     settings_from_options,
 )
 from walk3d.problem.terms import DEFAULT_PRESET
@@ -104,7 +107,7 @@ def _calibration_fields(path: str | None) -> dict:
     }
 
 
-def _descriptors_from_trial(ctx, from_trial, grf, **given: float) -> tuple[float, float, float]:
+def _descriptors_from_trial(ctx, from_trial, grf, **given) -> tuple:
     """V, T, Td for predict: the trial's, except options given explicitly on the command line."""
     if from_trial is None and grf is None:
         return given["speed"], given["period"], given["double_support"]
@@ -137,8 +140,9 @@ def predict(
     ctx: typer.Context,
     out: Annotated[str, typer.Option("--out", help="Result folder (created).")],
     speed: Speed = 1.3806,
-    period: Period = 1.08,
-    double_support: DoubleSupport = 0.16,
+    period: Period = "auto",
+    double_support: DoubleSupport = "auto",
+    paper: Paper = False,
     mass: Mass = 68.8,
     height: Height = 1.77,
     sex: Sex = "male",
@@ -164,18 +168,24 @@ def predict(
     """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot and
     summary.png. Exit code 0 if the solve converged, 1 if not (results are still written and
     labelled), 2 for bad input, 3 if the folder could not be written (nothing is left), 130 on
-    Ctrl-C. An earlier result in DIR is replaced. With --from-trial IK.mot --grf GRF.mot, V, T
+    Ctrl-C. An earlier result in DIR is replaced. T and Td are predicted with the gait unless
+    given (--period, --double-support, --paper). With --from-trial IK.mot --grf GRF.mot, V, T
     and Td come from the trial unless --speed, --period or --double-support are given."""
     check_output_folder(out, replaces="summary.json")
+    case = paper_case(ctx, paper, {"speed": speed, "period": period, "mass": mass, "sex": sex,
+                                   "double_support": double_support, "height": height,
+                                   "criterion": criterion})  # fmt: skip
     speed, period, double_support = _descriptors_from_trial(
-        ctx, from_trial, grf, speed=speed, period=period, double_support=double_support
-    )
+        ctx, from_trial, grf, speed=case["speed"], period=case["period"],
+        double_support=case["double_support"],
+    )  # fmt: skip
+    mass, height, sex, criterion = case["mass"], case["height"], case["sex"], case["criterion"]
     if threads is None:
         from walk3d.problem.settings import available_cores
 
         threads = min(available_cores(), 64)
     settings = settings_from_options(
-        criterion, solver, seed, speed=speed, period=period, double_support=double_support,
+        criterion, solver, seed, **gait_fields(speed, period, double_support, height),
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads, max_iter=max_iter,
         perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library,
@@ -199,6 +209,7 @@ def predict(
     after = f", {tries} standing starts (--restarts)" if tries > 1 else ""
     t.add_row("converged", f"{verdict} ({s['status']}, {s['iterations']} iterations{after})")
     t.add_row("wall time", f"{s['wall_time_s']:.1f} s")
+    t.add_row("descriptors", descriptor_text(s["descriptors"]))
     if solver == "ipopt":
         comp = s.get("compiled_derivatives") or []
         t.add_row("derivatives", f"compiled C ({', '.join(comp)})" if comp else
@@ -232,6 +243,18 @@ def predict(
         raise typer.Exit(1)
 
 
+def descriptor_text(d: dict) -> str:
+    """One line of the descriptors (``summary.json``'s ``descriptors``), marking predicted ones."""
+
+    def mark(name: str) -> str:
+        return " (predicted)" if name in d["predicted"] else ""
+
+    return (f"V {d['speed']:.3f} m/s, T {d['period']:.3f} s{mark('period')}, Td "
+            f"{d['double_support']:.3f} s{mark('double_support')}; stride "
+            f"{d['stride_length']:.3f} m, cadence {d['cadence']:.1f} steps/min, stance "
+            f"{100 * d['stance_fraction']:.1f} %")  # fmt: skip
+
+
 def objective_rows(t: Table, objective: dict, criterion: str) -> None:
     """The criterion rows of the predict table: the minimized one first (with its weights),
     then every term with its x/y/z split."""
@@ -255,8 +278,8 @@ def objective_rows(t: Table, objective: dict, criterion: str) -> None:
 @app.command(name="compile")
 def compile_model(
     speed: Speed = 1.3806,
-    period: Period = 1.08,
-    double_support: DoubleSupport = 0.16,
+    period: Period = "auto",
+    double_support: DoubleSupport = "auto",
     mass: Mass = 68.8,
     height: Height = 1.77,
     sex: Sex = "male",
@@ -270,7 +293,7 @@ def compile_model(
     solve). Takes minutes once; needs a C compiler ($CC or cc). Exit code 2 without a compiler
     or for bad input."""
     settings = settings_from_options(
-        criterion, "ipopt", 0, speed=speed, period=period, double_support=double_support,
+        criterion, "ipopt", 0, **gait_fields(speed, period, double_support, height),
         mass=mass, height=height, sex=sex, nodes=nodes, **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.cli.compile import compile_with_progress
@@ -300,99 +323,3 @@ def cache_info(
     if clear:
         files, freed = model_cache.clear_entries()
         console.print(f"deleted {files} files, {freed / 1e6:.1f} MB")
-
-
-@app.command()
-def campaign(
-    starts: Annotated[int, typer.Option("--starts", help="Number of random starts.")],
-    out: Annotated[str, typer.Option("--out", help="Campaign folder (created or resumed).")],
-    criterion: Criterion = DEFAULT_PRESET,
-    seed: Annotated[
-        int, typer.Option("--seed", help="Base seed: start k uses seed+k.", rich_help_panel=SOLVER)
-    ] = 0,
-    workers: Annotated[
-        int | None, typer.Option("--workers", help="Local worker processes (default: cores).")
-    ] = None,
-    scheduler: Annotated[
-        str | None,
-        typer.Option(
-            "--scheduler",
-            help="Address of a running Dask scheduler (its workers must see --out).",
-        ),
-    ] = None,
-    speed: Speed = 1.3806,
-    period: Period = 1.08,
-    double_support: DoubleSupport = 0.16,
-    mass: Mass = 68.8,
-    height: Height = 1.77,
-    sex: Sex = "male",
-    solver: SolverName = "ipopt",
-    nodes: Nodes = 20,
-    max_iter: MaxIter = 800,
-    compile_c: Annotated[
-        bool | None,
-        typer.Option(
-            "--compile/--no-compile",
-            help="Compile the derivatives to C first (as walk3d compile). Default: when at "
-            "least 30 starts are to run and a C compiler is found.",
-        ),
-    ] = None,
-    perturbation: Perturbation = 0.05,
-    restarts: Restarts = 1,
-    linear_solver: LinearSolver = "mumps",
-    hsl_library: HslLibrary = None,
-    calibration: CalibrationFile = None,
-) -> None:
-    """Run N random starts in parallel (Dask) and rank them. Each finished start is stored
-    at once in DIR/starts/seed_<seed>/ (a walk3d predict folder plus record.json); rerunning
-    the same command resumes (a larger --starts adds starts). Writes DIR/ranking.csv and
-    DIR/best/. Exit code 0 if a start converged, 1 if none did, 2 for bad input, 3 if starts
-    could not be written (a rerun retries them, and starts that failed on the disk, memory or a
-    lost worker), 130 on Ctrl-C."""
-    if starts < 1:
-        fail(f"--starts must be a positive integer, got {starts}")
-    if workers is not None and workers < 1:
-        fail(f"--workers must be a positive integer, got {workers}")
-    check_output_folder(out)
-    if scheduler:
-        from walk3d.campaign.runner import check_scheduler
-
-        try:
-            check_scheduler(scheduler)
-        except ValueError as exc:
-            fail(str(exc))
-    settings = settings_from_options(
-        criterion, solver, seed, speed=speed, period=period, double_support=double_support,
-        mass=mass, height=height, sex=sex, nodes=nodes, max_iter=max_iter,
-        perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
-        hsl_library=hsl_library, **_calibration_fields(calibration),
-    )  # fmt: skip
-    from walk3d.campaign import CampaignMismatch, run_campaign
-    from walk3d.campaign.ranking import top_table
-    from walk3d.cli.compile import compile_with_progress, worth_compiling
-    from walk3d.io.errors import OutputWriteError
-
-    if solver == "ipopt" and (compile_c or (compile_c is None and worth_compiling(starts))):
-        compile_with_progress(settings, console)
-
-    try:
-        report = run_campaign(settings, starts, seed, out, workers=workers, scheduler=scheduler,
-                              solver=solver, console=console)  # fmt: skip
-    except CampaignMismatch as exc:
-        fail(" ".join(str(exc).split()))
-    except OSError as exc:
-        fail(str(OutputWriteError(out, exc)), code=EXIT_WRITE)
-    console.print(top_table(report.rows, criterion))
-    retried = f", {report.retried} retried after an environment failure" if report.retried else ""
-    console.print(
-        f"{len(report.rows)} starts in {out}: {report.converged} converged, "
-        f"{report.errors} errors; this run {report.ran}{retried}, resumed {report.skipped} "
-        f"({report.wall_time_s:.1f} s); ranking in {out}/ranking.csv"
-    )
-    if report.missing:
-        fail(f"{report.missing} starts could not be recorded in {out} (disk full?); free space "
-             "and rerun the same command to run them", code=EXIT_WRITE)  # fmt: skip
-    if report.best_seed is None:
-        console.print("no start converged: no best/ folder was written")
-        raise typer.Exit(1)
-    console.print(f"best converged start: seed {report.best_seed}, copied to {out}/best/")

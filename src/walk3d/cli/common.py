@@ -35,12 +35,34 @@ Speed = Annotated[
     float, typer.Option("--speed", help="Walking speed V, m/s.", rich_help_panel=GAIT)
 ]
 Period = Annotated[
-    float, typer.Option("--period", help="Gait-cycle period T, s.", rich_help_panel=GAIT)
+    str,
+    typer.Option(
+        "--period",
+        help="Gait-cycle period T, s, or auto: predicted with the gait, per distance walked "
+        "(docs/descriptors.md).",
+        rich_help_panel=GAIT,
+    ),
 ]
 DoubleSupport = Annotated[
-    float,
-    typer.Option("--double-support", help="Double-support duration Td, s.", rich_help_panel=GAIT),
+    str,
+    typer.Option(
+        "--double-support",
+        help="Duration Td of one double support, s, or auto: predicted with the gait.",
+        rich_help_panel=GAIT,
+    ),
 ]
+Paper = Annotated[
+    bool,
+    typer.Option(
+        "--paper",
+        help="The paper's case: its subject (68.8 kg, 1.77 m, male), V 1.3806 m/s, T 1.08 s, "
+        "Td 0.16 s and C_tor; options given as well override it.",
+        rich_help_panel=GAIT,
+    ),
+]
+PAPER_CASE = {"speed": 1.3806, "period": "1.08", "double_support": "0.16", "mass": 68.8,
+              "height": 1.77, "sex": "male", "criterion": "tor"}  # fmt: skip
+"""What ``--paper`` sets."""
 Criterion = Annotated[
     str,
     typer.Option(
@@ -188,6 +210,50 @@ def criterion_option(value: str) -> str:
     except ValueError as exc:
         fail(f"--criterion: {exc}")
     raise AssertionError  # fail() exits
+
+
+def given_on_command_line(ctx: typer.Context, name: str) -> bool:
+    """Whether option ``name`` (its parameter name) was typed, not defaulted."""
+    return getattr(ctx.get_parameter_source(name), "name", "") == "COMMANDLINE"
+
+
+def paper_case(ctx: typer.Context, paper: bool, values: dict) -> dict:
+    """``values`` with :data:`PAPER_CASE` in place of every one not typed, when ``paper``."""
+    if not paper:
+        return values
+    return {k: v if k not in PAPER_CASE or given_on_command_line(ctx, k) else PAPER_CASE[k]
+            for k, v in values.items()}  # fmt: skip
+
+
+def _descriptor(value: str | float, option: str) -> float | None:
+    if str(value).strip().lower() == "auto":
+        return None
+    try:
+        number = float(value)
+    except ValueError:
+        number = float("nan")
+    if not (number > 0 and number < float("inf")):
+        fail(f"{option} must be a positive number of seconds or auto, got {value!r}")
+    return number
+
+
+def gait_fields(
+    speed: float, period: str | float, double_support: str | float, height: float
+) -> dict:
+    """``speed``, ``period``, ``double_support`` and ``free`` settings fields: ``auto``
+    descriptors are predicted from a first guess (:mod:`walk3d.problem.descriptors`); one
+    error line and exit 2 for a value that is neither a number nor auto."""
+    from walk3d.problem.descriptors import auto_descriptors
+
+    t = _descriptor(period, "--period")
+    td = _descriptor(double_support, "--double-support")
+    if not (0 < speed <= 4.0 and 1.0 <= height <= 2.4):
+        return {"speed": speed, "period": t or 1.0, "double_support": td or 0.1}  # refused later
+    try:
+        t, td, free = auto_descriptors(speed, height, t, td)
+    except ValueError as exc:
+        fail(str(exc))
+    return {"speed": speed, "period": t, "double_support": td, "free": free}
 
 
 def settings_from_options(criterion: str, solver: str, seed: int, **fields):

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from walk3d.body.model import BodyModel
-from walk3d.problem import layout
+from walk3d.problem import descriptors, layout
 from walk3d.problem.nlp import BALL_NORM_MAX, G_ROWS, N_G, N_T, N_Y, per_foot_loads
 from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.schedule import Schedule, loop_check_times, range_rows
@@ -61,11 +61,13 @@ def bounds(
     sch: Schedule,
     dynamics: bool = True,
     balance: bool = True,
+    free: bool = False,
 ) -> Bounds:
     """Bounds on ``z`` and ``g``. Slacks are fixed at 0 when unused (kinematic stage, smooth
     criterion form) and free otherwise (``t ≥ u±`` bounds them below). For the kinematic
     stage, ``balance=False`` leaves the total-reaction rows (force, friction, COP) unbounded:
-    a purely geometric first pass."""
+    a purely geometric first pass. With predicted descriptors (``settings.gait.free``) ``s`` is
+    pinned at the first guess unless ``free``."""
     n_nodes = sch.n
     slack = dynamics and settings.model.absolute == "slack"
     per_foot = per_foot_loads(settings.model, dynamics, balance)
@@ -117,6 +119,14 @@ def bounds(
     tol = np.full(n_loop, settings.solver.loop_check_tolerance)
     lbg = np.concatenate([np.zeros(n_lift), glo.ravel(), np.zeros(6), rlo, -tol])
     ubg = np.concatenate([np.zeros(n_lift), ghi.ravel(), np.zeros(6), rhi, tol])
-    lay = layout.NlpLayout(n_nodes, rlo.size, n_loop)
+    n_s = 0
+    if settings.gait.free:  # s = [T, Td]
+        n_s = descriptors.N_S
+        g = settings.gait
+        slo, shi = descriptors.descriptor_bounds(g.free, g.period, g.double_support,
+                                                 pinned=not free)  # fmt: skip
+        lbz, ubz = np.concatenate([lbz, slo]), np.concatenate([ubz, shi])
+        lbg, ubg = np.concatenate([lbg, np.zeros(n_s)]), np.concatenate([ubg, np.full(n_s, np.inf)])
+    lay = layout.NlpLayout(n_nodes, rlo.size, n_loop, n_s)
     assert (lbz.size, lbg.size) == (lay.n_z, lay.n_g), "bounds out of the layout's blocks"
     return Bounds(lbz, ubz, lbg, ubg)

@@ -24,7 +24,8 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from walk3d.problem import layout
+from walk3d.problem import coupling, layout
+from walk3d.problem.scatter import Scatter, per_node, triplets
 
 N_Y, N_T, N_V = layout.N_Y, layout.N_T, layout.N_V
 NodeDerivs = tuple[ca.Function, ca.Function, ca.Function | list[ca.Function]]
@@ -40,16 +41,18 @@ class NlpPieces:
     g: ca.MX
     node0: ca.Function
     node: ca.Function
-    params: np.ndarray
-    """(3, n) node parameters ``[decay, anchor_x, ω]`` (:data:`walk3d.problem.layout.N_P`)."""
+    params: np.ndarray | ca.MX
+    """(3, n) node parameters ``[decay, anchor_x, ω]`` (:data:`walk3d.problem.layout.N_P`);
+    functions of the descriptors ``s`` when they are unknowns."""
     lift: np.ndarray
     """(n, 78, N_X) lifting maps."""
     range_mat: np.ndarray
     hs_rows: slice
     hs_map: np.ndarray
     """(6, 6) linear map from the heel-strike rows of node 0 to the trailing foot's load."""
-    weight: float | np.ndarray
-    """Objective = ``Σ_k weight_k · f_k[crit]`` (one weight for every node, or one per node)."""
+    weight: float | np.ndarray | ca.MX
+    """Objective = ``Σ_k weight_k · f_k[crit]`` (one weight for every node, or one per node,
+    maybe functions of ``s``)."""
     crit: int
     layout: layout.NlpLayout
     """The blocks of ``z`` and ``g``."""
@@ -60,6 +63,8 @@ class NlpPieces:
     quad: np.ndarray | None = None
     """(N_X,) ``q`` of an objective part ``Σ q_i x_i²`` on the coefficients (the jerk term),
     or None."""
+    free: coupling.FreeCoupling | None = None
+    """The descriptors' part when ``s = [T, Td]`` are unknowns (:mod:`walk3d.problem.coupling`)."""
     node_derivs: NodeDerivs | None = None
     """``(jac, grad, hess)`` of the mapped node function, if built elsewhere (compiled C, from
     :func:`derivative_chunks`; ``hess`` may be the list of its column blocks, then mapped by
@@ -142,64 +147,6 @@ def map_blocks(blocks: list[ca.Function], n: int, threads: int = 1) -> ca.Functi
     return ca.Function(f"map{n}_blocks_{first.name()}", args, [ca.horzcat(*cols)])
 
 
-def _triplets(sp: ca.Sparsity) -> tuple[np.ndarray, np.ndarray]:
-    r, c = sp.get_triplet()
-    return np.asarray(r, dtype=int), np.asarray(c, dtype=int)
-
-
-def _per_node(first: ca.MX, rest: ca.MX, sp_rest: ca.Sparsity, n: int):
-    """``(nonzeros, rows, cols)`` of node 0's block, then of each mapped node's block (the
-    mapped output is the horizontal concatenation of the nodes' blocks)."""
-    r0, c0 = _triplets(first.sparsity())
-    yield first.nz[:], r0, c0
-    r, c = _triplets(sp_rest)
-    m = len(r)
-    for k in range(1, n):
-        yield rest.nz[(k - 1) * m : k * m], r, c
-
-
-class _Scatter:
-    """Collects ``(row, col)`` targets of source nonzeros; builds ``nz_global = S @ nz_src``."""
-
-    def __init__(self, shape: tuple[int, int]):
-        self.shape = shape
-        self.rows: list[np.ndarray] = []
-        self.cols: list[np.ndarray] = []
-        self.const_rows: list[np.ndarray] = []
-        self.const_cols: list[np.ndarray] = []
-        self.const_vals: list[np.ndarray] = []
-        self.sources: list[ca.MX] = []
-
-    def add(self, nz: ca.MX, rows: np.ndarray, cols: np.ndarray) -> None:
-        self.sources.append(nz)
-        self.rows.append(rows)
-        self.cols.append(cols)
-
-    def add_const(self, rows: np.ndarray, cols: np.ndarray, vals: np.ndarray) -> None:
-        self.const_rows.append(rows)
-        self.const_cols.append(cols)
-        self.const_vals.append(vals)
-
-    def build(self) -> ca.MX:
-        rows = np.concatenate(self.rows + self.const_rows)
-        cols = np.concatenate(self.cols + self.const_cols)
-        # global nonzeros: the distinct targets in column-major order; slot = position of each
-        keys, slot = np.unique(cols * self.shape[0] + rows, return_inverse=True)
-        sp = ca.Sparsity.triplet(*self.shape, (keys % self.shape[0]).tolist(),
-                                 (keys // self.shape[0]).tolist())  # fmt: skip
-        assert sp.nnz() == len(keys)
-        n_var = sum(len(r) for r in self.rows)
-        src = np.arange(n_var)
-        scatter = ca.DM(ca.Sparsity.triplet(sp.nnz(), n_var, slot[:n_var].tolist(),
-                                            src.tolist()), 1.0)  # fmt: skip
-        nz = ca.mtimes(scatter, ca.vertcat(*self.sources))
-        if self.const_vals:
-            const = np.zeros(sp.nnz())
-            np.add.at(const, slot[n_var:], np.concatenate(self.const_vals))
-            nz = nz + ca.DM(const)
-        return ca.MX(sp, nz)
-
-
 def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     """``grad_f``, ``jac_g`` and ``hess_lag`` for ``ca.nlpsol`` (its option names)."""
     lay = pc.layout
@@ -218,7 +165,8 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
         j0, d0, h0 = jn, dn, h_one
     else:
         j0, d0, h0 = node_derivatives(pc.node0, pc.crit)
-    pr, p0 = ca.DM(pc.params[:, 1:]), ca.DM(pc.params[:, 0])
+    params = pc.params if isinstance(pc.params, ca.MX) else ca.DM(pc.params)
+    pr, p0 = params[:, 1:], params[:, 0]
 
     def mapped(fn: ca.Function | list[ca.Function]) -> ca.Function:
         if isinstance(fn, list):  # column blocks (compiled)
@@ -229,19 +177,20 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     gf0, gfr = d0(v0, p0), mapped(dn)(vr, pr)
 
     # Jacobian rows: the g blocks of the layout
-    jac = _Scatter((n_g, n_z))
-    lift = pc.lift.reshape(-1, layout.N_X)
-    lr, lc = np.nonzero(lift)
-    jac.add_const(lr, lc, -lift[lr, lc])
+    jac = Scatter((n_g, n_z))
+    if pc.free is None:  # otherwise the lifting depends on s (coupling.add_free)
+        lift = pc.lift.reshape(-1, layout.N_X)
+        lr, lc = np.nonzero(lift)
+        jac.add_const(lr, lc, -lift[lr, lc])
     n_y = n * N_Y
     jac.add_const(lay.g("lift").start + np.arange(n_y), lay.z("y").start + np.arange(n_y),
                   np.ones(n_y))  # fmt: skip
     off = lay.g("node").start
-    for k, (nz, r, c) in enumerate(_per_node(J0, Jr, jn.sparsity_out(0), n)):
+    for k, (nz, r, c) in enumerate(per_node(J0, Jr, jn.sparsity_out(0), n)):
         jac.add(nz, off + k * layout.N_G + r, cols[k][c])
     off = lay.g("hs").start
     j_hs = ca.mtimes(ca.DM(pc.hs_map), J0[pc.hs_rows.start : pc.hs_rows.stop, :])
-    rh, ch = _triplets(j_hs.sparsity())
+    rh, ch = triplets(j_hs.sparsity())
     jac.add(j_hs.nz[:], off + rh, cols[0][ch])
     jac.add_const(off + np.arange(6), lay.z("w0").start + np.arange(6), -np.ones(6))
     off = lay.g("range").start
@@ -252,17 +201,17 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     hess_extra = None
     if pc.g_loop.numel():
         j_loop = ca.jacobian(pc.g_loop, pc.x)
-        rl, cl = _triplets(j_loop.sparsity())
+        rl, cl = triplets(j_loop.sparsity())
         jac.add(j_loop.nz[:], off + rl, cl)
         hess_extra = ca.triu(ca.hessian(ca.dot(lam_loop, pc.g_loop), pc.x)[0])
 
     # gradient of the objective
-    grad = _Scatter((n_z, 1))
-    w = np.broadcast_to(np.asarray(pc.weight, dtype=float), (n,))
-    uniform = np.ndim(pc.weight) == 0
-    for k, (nz, r, _) in enumerate(_per_node(gf0, gfr, dn.sparsity_out(0), n)):
-        grad.add((pc.weight if uniform else float(w[k])) * nz, cols[k][r],
-                 np.zeros(len(r), dtype=int))  # fmt: skip
+    grad = Scatter((n_z, 1))
+    uniform = not isinstance(pc.weight, ca.MX) and np.ndim(pc.weight) == 0
+    w = (pc.weight if isinstance(pc.weight, ca.MX)
+         else ca.DM(np.broadcast_to(np.asarray(pc.weight, dtype=float), (n,))))  # fmt: skip
+    for k, (nz, r, _) in enumerate(per_node(gf0, gfr, dn.sparsity_out(0), n)):
+        grad.add((pc.weight if uniform else w[k]) * nz, cols[k][r], np.zeros(len(r), dtype=int))
     grad.add_const(np.arange(n_z), np.zeros(n_z, dtype=int), np.zeros(n_z))
     iq = np.flatnonzero(pc.quad) if pc.quad is not None else np.zeros(0, dtype=int)
     if iq.size:
@@ -280,19 +229,22 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
         sf = pc.weight * lam_f
         sf0, sfr = sf, ca.repmat(sf, 1, n - 1)
     else:
-        sf0, sfr = float(w[0]) * lam_f, ca.DM(w[1:]).T * lam_f
-    H0 = h0(v0, ca.DM(pc.params[:, 0]), sf0, lam0)
+        sf0, sfr = w[0] * lam_f, ca.reshape(w[1:], 1, n - 1) * lam_f
+    H0 = h0(v0, p0, sf0, lam0)
     Hr = mapped(hn)(vr, pr, sfr, lam_nodes[:, 1:])
-    hess = _Scatter((n_z, n_z))
-    for k, (nz, r, c) in enumerate(_per_node(H0, Hr, h_one.sparsity_out(0), n)):
+    hess = Scatter((n_z, n_z))
+    for k, (nz, r, c) in enumerate(per_node(H0, Hr, h_one.sparsity_out(0), n)):
         gr, gc = cols[k][r], cols[k][c]
         keep = gr <= gc  # upper triangle in z's order (node order differs: hw comes first)
         hess.add(nz[np.flatnonzero(keep).tolist()], gr[keep], gc[keep])
     if iq.size:
         hess.add(2 * lam_f * ca.DM(pc.quad[iq]), iq, iq)
     if hess_extra is not None:
-        rx, cx = _triplets(hess_extra.sparsity())
+        rx, cx = triplets(hess_extra.sparsity())
         hess.add(hess_extra.nz[:], rx, cx)
+    if pc.free is not None:
+        coupling.add_free(pc.free, coupling.Targets(jac, grad, hess, lay, cols),
+                          (v0, vr), (lam_f, lam0, lam_nodes[:, 1:], lam_g), pc.hs_map)  # fmt: skip
     return {
         "grad_f": ca.Function("grad_f", [z, p], [pc.f, grad.build()], ["x", "p"],
                               ["f", "grad_f_x"]),

@@ -2,9 +2,10 @@
 
 * ``x = [c (15 × 11 Fourier coefficients, series-major), half_step_width]``: 166 entries, the
   decision vector of a prediction;
-* ``z = [x, vec(Y) (nodes × 78), W0 (6), vec(T) (nodes × 24)]``: the lifted NLP's variables;
+* ``z = [x, vec(Y) (nodes × 78), W0 (6), vec(T) (nodes × 24), s]``: the lifted NLP's variables,
+  ``s = [T, Td]`` only when a descriptor is predicted (:mod:`walk3d.problem.descriptors`);
 * ``g = [lifting (nodes × 78), node rows (nodes × N_G), heel-strike tie (6), joint ranges,
-  loop checks]``: its constraint rows, each node's block :data:`G_ROWS`.
+  loop checks, Td / T rows (2, with s)]``: its constraint rows, each node's block :data:`G_ROWS`.
 
 :class:`NlpLayout` gives the ``z`` and ``g`` blocks of a grid; the NLP
 (:mod:`walk3d.problem.nlp`), its bounds, its derivatives and the solver all use it.
@@ -148,13 +149,17 @@ class NlpLayout:
     nodes: int
     n_range: int = 0
     n_loop: int = 0
+    n_s: int = 0
+    """Descriptor unknowns ``s = [T, Td]`` at the end of ``z`` (:mod:`walk3d.problem.descriptors`),
+    with their two rows on ``Td / T`` at the end of ``g``; 0 when T and Td are given."""
 
     def _z(self) -> dict[str, int]:
-        return {"x": N_X, "y": self.nodes * N_Y, "w0": N_W0, "t": self.nodes * N_T}
+        return {"x": N_X, "y": self.nodes * N_Y, "w0": N_W0, "t": self.nodes * N_T,
+                "s": self.n_s}  # fmt: skip
 
     def _g(self) -> dict[str, int]:
         return {"lift": self.nodes * N_Y, "node": self.nodes * N_G, "hs": N_W0,
-                "range": self.n_range, "loop": self.n_loop}  # fmt: skip
+                "range": self.n_range, "loop": self.n_loop, "desc": self.n_s}  # fmt: skip
 
     @staticmethod
     def _block(sizes: dict[str, int], name: str) -> slice:
@@ -166,11 +171,11 @@ class NlpLayout:
         raise KeyError(name)
 
     def z(self, name: str) -> slice:
-        """Block ``x``, ``y``, ``w0`` or ``t`` of ``z``."""
+        """Block ``x``, ``y``, ``w0``, ``t`` or ``s`` of ``z``."""
         return self._block(self._z(), name)
 
     def g(self, name: str) -> slice:
-        """Block ``lift``, ``node``, ``hs``, ``range`` or ``loop`` of ``g``."""
+        """Block ``lift``, ``node``, ``hs``, ``range``, ``loop`` or ``desc`` of ``g``."""
         return self._block(self._g(), name)
 
     @property

@@ -10,7 +10,7 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.contact.phases import GaitPhases
-from walk3d.problem import layout
+from walk3d.problem import descriptors, layout
 from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.settings import PredictionSettings
 
@@ -52,6 +52,8 @@ def schedule(settings: PredictionSettings) -> Schedule:
     node 1 (docs/criteria.md). With extra nodes the grid is not regular, and each node weighs
     the half-width of its two intervals (the midpoint rule of a periodic grid).
     """
+    if settings.gait.free:
+        return free_schedule(settings)
     ph = GaitPhases(settings.gait.period, settings.gait.double_support)
     n = settings.solver.nodes
     h = settings.gait.period / (2 * n)
@@ -73,6 +75,22 @@ def schedule(settings: PredictionSettings) -> Schedule:
         step=h,
         weights=weights,
     )
+
+
+def free_schedule(settings: PredictionSettings) -> Schedule:
+    """The phase-following grid of :mod:`walk3d.problem.descriptors` at the settings' T and
+    Td (with a free descriptor they are the first guess)."""
+    g = settings.gait
+    grid = descriptors.free_grid(settings.solver.nodes, g.period, g.double_support)
+    t_hs = GaitPhases(g.period, g.double_support).heel_strike_r
+    ds = grid.double_support
+    return Schedule(
+        times=t_hs + np.array(grid.tau(g.period, g.double_support)),
+        double_support=ds, swing=~ds, decay=grid.decay,
+        anchor_other_x=grid.anchor_sign * g.stride_length / 2,
+        step=g.period / (2 * grid.n),
+        weights=np.array(grid.weights(g.period, g.double_support)),
+    )  # fmt: skip
 
 
 def range_rows(body: BodyModel, settings: PredictionSettings) -> tuple[np.ndarray, ...]:
@@ -106,6 +124,8 @@ def loop_check_times(settings: PredictionSettings, sch: Schedule) -> np.ndarray:
     gap = np.diff(sch.times)
     times = [sch.times[k] + f * gap[k] for k in ds[:-1] for f in frac]
     toe_off = sch.times[0] + settings.gait.double_support
+    if settings.gait.free:  # a node sits at toe off
+        return np.array(times)
     if (
         settings.solver.loop_check_toe_off
         and toe_off - sch.times[ds[-1]] > 1e-6 * settings.gait.period
@@ -117,4 +137,5 @@ def loop_check_times(settings: PredictionSettings, sch: Schedule) -> np.ndarray:
 def nlp_layout(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> layout.NlpLayout:
     """The blocks of the NLP's ``z`` and ``g`` on this grid (:class:`~layout.NlpLayout`)."""
     n_range = range_rows(body, settings)[0].shape[0]
-    return layout.NlpLayout(sch.n, n_range, 6 * loop_check_times(settings, sch).size)
+    n_s = descriptors.N_S if settings.gait.free else 0
+    return layout.NlpLayout(sch.n, n_range, 6 * loop_check_times(settings, sch).size, n_s)

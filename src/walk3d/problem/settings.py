@@ -58,6 +58,9 @@ class GaitSettings(_Group):
     """Stature, m."""
     sex: Literal["male", "female"] = "male"
     """Which de Leva (1996) table scales the segments."""
+    free: tuple[Literal["period", "double_support"], ...] = ()
+    """Descriptors predicted with the gait (:mod:`walk3d.problem.descriptors`); their values
+    above are then the first guess. Empty: T and Td are given, the paper's problem."""
 
     @model_validator(mode="after")
     def _ranges(self) -> GaitSettings:
@@ -69,6 +72,7 @@ class GaitSettings(_Group):
              f"got {self.double_support}"),
             (20 <= self.mass <= 250, f"body mass must be in [20, 250] kg, got {self.mass}"),
             (1.0 <= self.height <= 2.4, f"height must be in [1.0, 2.4] m, got {self.height}"),
+            (len(set(self.free)) == len(self.free), f"free descriptors repeat: {self.free}"),
         ])  # fmt: skip
         return self
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from walk3d.problem import layout, similarity
+from walk3d.problem import descriptors, layout, similarity, terms
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import upright
 from walk3d.solve.plan import END, SUCCESS, Stage, run_plan
@@ -28,8 +28,8 @@ from walk3d.solve.progress import (
 )
 from walk3d.solve.solver import Solver, build_solver
 
-__all__ = ["IPOPT_SUCCESS", "SolveOutcome", "Solver", "build_solver", "full_stage_start",
-           "initial_guess", "solve"]  # fmt: skip
+__all__ = ["IPOPT_SUCCESS", "SolveOutcome", "Solver", "build_solver", "descriptor_stage",
+           "full_stage_start", "initial_guess", "solve", "solve_descriptors"]  # fmt: skip
 
 IPOPT_SUCCESS = SUCCESS
 """Return statuses counted as converged (:data:`walk3d.solve.plan.SUCCESS`)."""
@@ -57,6 +57,9 @@ class SolveOutcome:
     of the reference subject: lengths differ from the subject's by the factor h / 1.77 m)."""
     compiled_derivatives: list[str] = field(default_factory=list)
     """NLPs whose node derivatives ran as compiled C (``walk3d compile``), not in CasADi's VM."""
+    descriptors: dict[str, float] = field(default_factory=dict)
+    """The subject's period and double support at the end, s, when they were unknowns
+    (``settings.gait.free``); empty otherwise."""
 
 
 def initial_guess(solver: Solver, seed: int, attempt: int = 0) -> np.ndarray:
@@ -82,6 +85,7 @@ def _z_from_x(solver: Solver, x: np.ndarray, w0: np.ndarray) -> np.ndarray:
     z = np.zeros(lay.n_z)
     z[lay.z("x")], z[lay.z("w0")] = x, w0
     z[lay.z("y")] = np.einsum("kij,j->ki", solver.lift, x).ravel()
+    z[lay.z("s")] = [solver.settings.gait.period, solver.settings.gait.double_support][: lay.n_s]
     return np.clip(z, solver.bounds_balance.lbz, solver.bounds_balance.ubz)
 
 
@@ -163,7 +167,64 @@ def solve(
     (:func:`walk3d.solve.progress.interruptible`): raised inside CasADi, it would be swallowed
     (by its argument conversion while the model builds, by IPOPT's callback while it solves)."""
     with interruptible():
+        if settings.gait.free:
+            return solve_descriptors(settings, seed, method, on_stage)
         return solve_stages(settings, seed, method, on_stage)
+
+
+def descriptor_stage(settings: PredictionSettings) -> Stage:
+    """The last stage of a prediction with predicted descriptors: the full NLP, ``s`` free."""
+    crit = terms.label(settings.model.criterion)
+    limit = min(settings.solver.max_iter, settings.solver.full_max_iter)
+    return Stage(key="descriptors", name="descriptors", problem="free", start="previous",
+                 max_iter=limit, title=f"stage 3/3: predicting the period and double support "
+                 f"({crit})", label="stage 3/3 (T, Td)")  # fmt: skip
+
+
+def solve_descriptors(
+    settings: PredictionSettings,
+    seed: int = 0,
+    method: str = "ipopt",
+    on_stage: Callable[[str], None] | None = None,
+) -> SolveOutcome:
+    """Predict the gait with ``settings.gait.free`` among the unknowns: :func:`solve_stages` of
+    the problem with every descriptor given (its first guess), then :func:`descriptor_stage`
+    from that optimum on the phase-following grid (:mod:`walk3d.problem.descriptors`). Why not
+    at once: from standing, the free problem ended crouched or at the bounds where the given one
+    walks (docs/descriptors.md)."""
+    note = on_stage or (lambda _msg: None)
+    fixed = settings.model_copy(update={"gait": settings.gait.model_copy(update={"free": ()})})
+    ref, scale = similarity.reference_problem(settings)
+    solver = build_solver(ref, method)
+    stage = descriptor_stage(ref)
+    solver.prepare(stage)  # built while the given problem solves
+    first = solve_stages(fixed, seed, method, on_stage)
+    if not first.converged:
+        return first
+    t0 = time.perf_counter()
+    note(stage.title)
+    w0 = np.array([0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
+    z0 = full_stage_start(solver, _z_from_x(solver, first.z[: layout.N_X], w0))
+    listener = None
+    if on_stage is not None:
+        listener = lambda it, f, viol: on_stage(  # noqa: E731
+            f"{stage.label}: iteration {it}, objective {f:.4g}, infeasibility {viol:.0e}"
+        )
+    z, record = _run(solver.stage(stage), solver, z0, stage.name, stage.problem, listener)
+    record["attempt"] = first.attempts - 1
+    if record["status"] in SUCCESS:
+        _reject_crouch(solver, z, record, note)
+    found = z[solver.layout.z("s")] * np.sqrt(scale)  # the subject's time scale
+    return SolveOutcome(
+        x=similarity.subject_x(z[: layout.N_X], scale), z=z,
+        converged=record["status"] in SUCCESS, status=record["status"],
+        iterations=first.iterations + record["iterations"],
+        wall_time_s=first.wall_time_s + time.perf_counter() - t0,
+        stages=[*first.stages, record], solver=method, attempts=first.attempts,
+        max_constraint_violation=record["max_constraint_violation"],
+        compiled_derivatives=sorted(set(first.compiled_derivatives) | set(solver.compiled)),
+        descriptors=dict(zip(descriptors.NAMES, map(float, found), strict=True)),
+    )  # fmt: skip
 
 
 def solve_stages(

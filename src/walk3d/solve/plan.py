@@ -44,8 +44,9 @@ class Stage:
     """Its name in the plan (unique)."""
     name: str
     """Its name in the stage records of ``summary.json``."""
-    problem: Literal["posture", "balance", "full"]
-    """The NLP it solves."""
+    problem: Literal["posture", "balance", "full", "free"]
+    """The NLP it solves (``free``: the full NLP with the predicted descriptors free,
+    :func:`walk3d.solve.ipopt.solve_stages`)."""
     start: Start
     max_iter: int
     """IPOPT's iteration limit."""

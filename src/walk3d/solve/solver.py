@@ -20,7 +20,7 @@ import casadi as ca
 import numpy as np
 
 from walk3d.body.model import BodyModel
-from walk3d.problem import derivatives, nlp, similarity
+from walk3d.problem import derivatives, free_nlp, nlp, similarity
 from walk3d.problem.bounds import Bounds, bounded_rows, bounds
 from walk3d.problem.layout import NlpLayout
 from walk3d.problem.schedule import Schedule, nlp_layout, schedule
@@ -66,6 +66,9 @@ class Solver:
     """The stages a solve runs (:func:`walk3d.solve.plan.default_plan`)."""
     build_time_s: float
     """Time to set up the solver without its stages (model functions, bounds)."""
+    bounds_free: Bounds | None = None
+    """The full NLP's bounds with the predicted descriptors free (``settings.gait.free``; the
+    other NLPs pin them at the first guess), for the last stage; None without."""
     from_cache: bool = False
     """Whether the model's SX functions were read from the on-disk cache."""
     compiled: dict[str, derivatives.NodeDerivs] = field(default_factory=dict, repr=False)
@@ -83,10 +86,12 @@ class Solver:
 
     def __post_init__(self) -> None:
         rows = {kind: bounded_rows(self.nlp_bounds(kind)) for kind in nlp.STAGES}
-        object.__setattr__(self, "stage_rows", rows)
         reporters = {kind: IterationReporter(f"walk3d_progress_{kind}",
                                              self.nlp_bounds(kind).lbz.size, r.size)
                      for kind, r in rows.items()}  # fmt: skip
+        if self.bounds_free is not None:  # the full NLP and its solvers, other bounds
+            rows["free"], reporters["free"] = rows["full"], reporters["full"]
+        object.__setattr__(self, "stage_rows", rows)
         object.__setattr__(self, "reporters", reporters)
 
     def _lock_for(self, key: str) -> threading.Lock:
@@ -94,9 +99,10 @@ class Solver:
             return self._locks.setdefault(key, threading.Lock())
 
     def nlp_bounds(self, kind: str) -> Bounds:
-        """The bounds of NLP ``kind`` (posture, balance, full) on all its rows."""
+        """The bounds of NLP ``kind`` (posture, balance, full, or free: the full NLP with the
+        predicted descriptors free) on all its rows."""
         return {"posture": self.bounds_posture, "balance": self.bounds_balance,
-                "full": self.bounds}[kind]  # fmt: skip
+                "full": self.bounds, "free": self.bounds_free}[kind]  # fmt: skip
 
     def stage_bounds(self, kind: str) -> Bounds:
         """The bounds that the stage solvers of NLP ``kind`` take: those of the NLP, on the rows
@@ -106,14 +112,16 @@ class Solver:
 
     def _problem(self, kind: str) -> dict:
         """The NLP dict of ``kind`` (posture, balance, full) with its derivative functions."""
+        kind = "full" if kind == "free" else kind
         key = f"nlp:{kind}"
         with self._lock_for(key):
             if key not in self._built:
                 t0 = time.perf_counter()
                 dynamics, balance = nlp.STAGES[kind]
-                prob, _, _ = nlp.build_nlp(self.body, self.settings, dynamics=dynamics,
-                                           balance=balance, functions=self.functions,
-                                           node_derivs=self.compiled.get(kind))  # fmt: skip
+                build = free_nlp.build_free_nlp if self.settings.gait.free else nlp.build_nlp
+                prob, _, _ = build(self.body, self.settings, dynamics=dynamics, balance=balance,
+                                   functions=self.functions,
+                                   node_derivs=self.compiled.get(kind))  # fmt: skip
                 self._built[key] = prob
                 self.stage_build_s[key] = time.perf_counter() - t0
             return self._built[key]  # type: ignore[return-value]
@@ -125,18 +133,19 @@ class Solver:
         """The solver of ``stage`` (a :class:`Stage` or its key in :attr:`plan`), built on first
         use and shared by the stages of the same NLP and iteration limit."""
         st = self._stage(stage)
-        key = f"{st.problem}:{st.max_iter}"
+        kind = "full" if st.problem == "free" else st.problem  # the same solver, other bounds
+        key = f"{kind}:{st.max_iter}"
         with self._lock_for(key):
             if key not in self._built:
-                prob = derivatives.select_rows(self._problem(st.problem),
-                                               self.stage_rows[st.problem])  # fmt: skip
+                prob = derivatives.select_rows(self._problem(kind),
+                                               self.stage_rows[kind])  # fmt: skip
                 t0 = time.perf_counter()
                 if self.method == "ipopt":
                     opts = ipopt_options(self.settings) | {"ipopt.max_iter": st.max_iter}
                     plugin = "ipopt"
                 else:
                     opts, plugin = sqp_options(self.settings), "sqpmethod"
-                opts["iteration_callback"] = self.reporters[st.problem]
+                opts["iteration_callback"] = self.reporters[kind]
                 fn = ca.nlpsol(f"walk3d_{st.key}", plugin, *_with_derivatives(prob, opts, plugin))
                 self._built[key] = fn
                 self.stage_build_s[key] = time.perf_counter() - t0
@@ -238,6 +247,8 @@ def _load_compiled(
 @cache
 def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool = True) -> Solver:
     t0 = time.perf_counter()
+    if settings.gait.free:
+        free_nlp.check_supported(settings)
     body = body_for(settings)
     fns, hit = _model_functions(body, settings.model, use_cache)
     sch = schedule(settings)
@@ -249,6 +260,7 @@ def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool 
         bounds=bounds(body, settings, sch),
         bounds_balance=bounds(body, settings, sch, dynamics=False),
         bounds_posture=bounds(body, settings, sch, dynamics=False, balance=False),
+        bounds_free=bounds(body, settings, sch, free=True) if settings.gait.free else None,
         lift=lift, schedule=sch, layout=nlp_layout(body, settings, sch),
         plan=default_plan(settings.solver, settings.model.criterion),
         build_time_s=time.perf_counter() - t0, from_cache=hit, compiled=comp,

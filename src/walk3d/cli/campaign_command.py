@@ -1,0 +1,139 @@
+"""``walk3d campaign``: many random starts in parallel, ranked."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import typer
+
+from walk3d.cli.commands import _calibration_fields
+from walk3d.cli.common import (
+    EXIT_WRITE,
+    SOLVER,
+    CalibrationFile,
+    Criterion,
+    DoubleSupport,
+    Height,
+    HslLibrary,
+    LinearSolver,
+    Mass,
+    MaxIter,
+    Nodes,
+    Paper,
+    Period,
+    Perturbation,
+    Restarts,
+    Sex,
+    SolverName,
+    Speed,
+    app,
+    check_output_folder,
+    console,
+    fail,
+    gait_fields,
+    paper_case,
+    settings_from_options,
+)
+from walk3d.problem.terms import DEFAULT_PRESET
+
+
+@app.command()
+def campaign(
+    ctx: typer.Context,
+    starts: Annotated[int, typer.Option("--starts", help="Number of random starts.")],
+    out: Annotated[str, typer.Option("--out", help="Campaign folder (created or resumed).")],
+    criterion: Criterion = DEFAULT_PRESET,
+    seed: Annotated[
+        int, typer.Option("--seed", help="Base seed: start k uses seed+k.", rich_help_panel=SOLVER)
+    ] = 0,
+    workers: Annotated[
+        int | None, typer.Option("--workers", help="Local worker processes (default: cores).")
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            help="Address of a running Dask scheduler (its workers must see --out).",
+        ),
+    ] = None,
+    speed: Speed = 1.3806,
+    period: Period = "auto",
+    double_support: DoubleSupport = "auto",
+    paper: Paper = False,
+    mass: Mass = 68.8,
+    height: Height = 1.77,
+    sex: Sex = "male",
+    solver: SolverName = "ipopt",
+    nodes: Nodes = 20,
+    max_iter: MaxIter = 800,
+    compile_c: Annotated[
+        bool | None,
+        typer.Option(
+            "--compile/--no-compile",
+            help="Compile the derivatives to C first (as walk3d compile). Default: when at "
+            "least 30 starts are to run and a C compiler is found.",
+        ),
+    ] = None,
+    perturbation: Perturbation = 0.05,
+    restarts: Restarts = 1,
+    linear_solver: LinearSolver = "mumps",
+    hsl_library: HslLibrary = None,
+    calibration: CalibrationFile = None,
+) -> None:
+    """Run N random starts in parallel (Dask) and rank them. Each finished start is stored
+    at once in DIR/starts/seed_<seed>/ (a walk3d predict folder plus record.json); rerunning
+    the same command resumes (a larger --starts adds starts). Writes DIR/ranking.csv and
+    DIR/best/. Exit code 0 if a start converged, 1 if none did, 2 for bad input, 3 if starts
+    could not be written (a rerun retries them, and starts that failed on the disk, memory or a
+    lost worker), 130 on Ctrl-C."""
+    if starts < 1:
+        fail(f"--starts must be a positive integer, got {starts}")
+    if workers is not None and workers < 1:
+        fail(f"--workers must be a positive integer, got {workers}")
+    check_output_folder(out)
+    if scheduler:
+        from walk3d.campaign.runner import check_scheduler
+
+        try:
+            check_scheduler(scheduler)
+        except ValueError as exc:
+            fail(str(exc))
+    case = paper_case(ctx, paper, {"speed": speed, "period": period, "mass": mass, "sex": sex,
+                                   "double_support": double_support, "height": height,
+                                   "criterion": criterion})  # fmt: skip
+    settings = settings_from_options(
+        case["criterion"], solver, seed,
+        **gait_fields(case["speed"], case["period"], case["double_support"], case["height"]),
+        mass=case["mass"], height=case["height"], sex=case["sex"], nodes=nodes, max_iter=max_iter,
+        perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
+        hsl_library=hsl_library, **_calibration_fields(calibration),
+    )  # fmt: skip
+    from walk3d.campaign import CampaignMismatch, run_campaign
+    from walk3d.campaign.ranking import top_table
+    from walk3d.cli.compile import compile_with_progress, worth_compiling
+    from walk3d.io.errors import OutputWriteError
+
+    if solver == "ipopt" and (compile_c or (compile_c is None and worth_compiling(starts))):
+        compile_with_progress(settings, console)
+
+    try:
+        report = run_campaign(settings, starts, seed, out, workers=workers, scheduler=scheduler,
+                              solver=solver, console=console)  # fmt: skip
+    except CampaignMismatch as exc:
+        fail(" ".join(str(exc).split()))
+    except OSError as exc:
+        fail(str(OutputWriteError(out, exc)), code=EXIT_WRITE)
+    console.print(top_table(report.rows, case["criterion"]))
+    retried = f", {report.retried} retried after an environment failure" if report.retried else ""
+    console.print(
+        f"{len(report.rows)} starts in {out}: {report.converged} converged, "
+        f"{report.errors} errors; this run {report.ran}{retried}, resumed {report.skipped} "
+        f"({report.wall_time_s:.1f} s); ranking in {out}/ranking.csv"
+    )
+    if report.missing:
+        fail(f"{report.missing} starts could not be recorded in {out} (disk full?); free space "
+             "and rerun the same command to run them", code=EXIT_WRITE)  # fmt: skip
+    if report.best_seed is None:
+        console.print("no start converged: no best/ folder was written")
+        raise typer.Exit(1)
+    console.print(f"best converged start: seed {report.best_seed}, copied to {out}/best/")

@@ -1,0 +1,227 @@
+"""The cycle period T and the double-support time Td as unknowns of the NLP.
+
+With ``GaitSettings.free`` not empty, the NLP's variables end with ``s = [T, Td]`` (s): a
+free descriptor lies within human bounds (:data:`PERIOD_RANGE_S`, :data:`DS_FRACTION_RANGE`),
+a given one is pinned at its value by equal bounds, so it keeps its meaning exactly. The
+posture and balance stages pin both at the first guess; the full stage frees them.
+
+**Grid.** The nodes follow the phases, so that they move continuously with ``s``: nodes
+``0..N_ds`` cover double support from the right heel strike to the left toe off (both
+included, ``τ_k = k Td / N_ds``), and the other ``N - N_ds - 1`` nodes split the single stance
+that follows evenly. Every node time after the heel strike is ``τ_k = a_k Td + b_k (T/2 − Td)``
+and every quadrature weight ``w_k = α_k Td + β_k (T/2 − Td)`` (the rectangle rule on each
+phase). The trailing foot's share ``exp(−(τ/(Td/2))³)`` at a node is then a constant.
+
+**Normalization.** A cycle's criterion integrates over T, so on its own it favours short
+cycles. With a descriptor free the objective is the criterion per distance travelled, ``J /
+(V T)``, times the first guess's stride ``V T0`` so that its size is that of the fixed problem:
+``J T0 / T``. With both given this is ``J`` itself, and the problem is the fixed one.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from walk3d.kinematics import fourier
+from walk3d.problem import layout
+
+N_S = 2
+"""Descriptor unknowns ``s = [T, Td]``, s."""
+NAMES = ("period", "double_support")
+PERIOD_RANGE_S = (0.8, 1.7)
+"""Bounds on T at the reference stature (1.77 m; they scale with √(h / 1.77 m)): adults'
+cadence spans about 70–150 steps/min from slow to fast walking."""
+DS_FRACTION_RANGE = (0.05, 0.22)
+"""Bounds on Td / T: each double support is 5–22 % of the cycle, a stance of 55–72 %, which
+covers adults from fast to slow walking."""
+
+
+@dataclass(frozen=True)
+class FreeGrid:
+    """The phase-following grid (module doc) of ``n`` nodes, ``n_ds`` intervals in double
+    support. Arrays are per node."""
+
+    n_ds: int
+    a: np.ndarray
+    b: np.ndarray
+    alpha: np.ndarray
+    beta: np.ndarray
+    double_support: np.ndarray
+
+    @property
+    def n(self) -> int:
+        return len(self.a)
+
+    def tau(self, period: Any, ds: Any) -> list[Any]:
+        """Node times after the right heel strike, s (numbers or CasADi expressions)."""
+        return [a * ds + b * (period / 2 - ds) for a, b in zip(self.a, self.b, strict=True)]
+
+    def weights(self, period: Any, ds: Any) -> list[Any]:
+        """Quadrature weight of each node over the half cycle, s."""
+        return [a * ds + b * (period / 2 - ds)
+                for a, b in zip(self.alpha, self.beta, strict=True)]  # fmt: skip
+
+    def phases(self, period: Any, ds: Any) -> list[Any]:
+        """``θ_k = 2π t_k / T`` with ``t_k = T/2 − Td + τ_k`` (the cycle starts at right toe off,
+        :mod:`walk3d.contact.phases`)."""
+        return [2 * math.pi * (period / 2 - ds + t) / period for t in self.tau(period, ds)]
+
+    @property
+    def decay(self) -> np.ndarray:
+        """The trailing foot's share of its heel-strike load at each node (0 in swing)."""
+        return np.where(self.double_support, np.exp(-((2 * self.a) ** 3)), 0.0)
+
+    @property
+    def anchor_sign(self) -> np.ndarray:
+        """The other foot's anchor is ``sign · V T / 2``: behind in double support, ahead in
+        swing."""
+        return np.where(self.double_support, -1.0, 1.0)
+
+
+def free_grid(nodes: int, period: float, ds: float) -> FreeGrid:
+    """The grid for ``nodes`` nodes, with the double-support intervals in proportion to the
+    first guess ``Td / (T/2)`` (at least 2, and at least 2 single-stance nodes)."""
+    n_ds = int(np.clip(round(nodes * 2 * ds / period), 2, nodes - 3))
+    m = nodes - n_ds
+    k = np.arange(nodes)
+    in_ds = k < n_ds
+    a = np.where(in_ds, k / n_ds, 1.0)
+    b = np.where(in_ds, 0.0, (k - n_ds) / m)
+    return FreeGrid(
+        n_ds=n_ds, a=a, b=b,
+        alpha=np.where(in_ds, 1.0 / n_ds, 0.0), beta=np.where(in_ds, 0.0, 1.0 / m),
+        double_support=k <= n_ds,
+    )  # fmt: skip
+
+
+def objective_scale(period: Any, period0: float) -> Any:
+    """Per-distance normalization of a cycle's criterion (module doc): ``T0 / T``."""
+    return period0 / period
+
+
+def node_parameters(grid: FreeGrid, speed: float, period: Any) -> list[list[Any]]:
+    """Each node's ``[decay, anchor_x, ω]`` (:data:`walk3d.problem.layout.N_P`) as functions
+    of T."""
+    return [[float(d), float(sg) * speed * period / 2, 2 * math.pi / period]
+            for d, sg in zip(grid.decay, grid.anchor_sign, strict=True)]  # fmt: skip
+
+
+def _series(theta, c) -> tuple[Any, Any, Any]:
+    """Value and first two θ-derivatives of one Fourier series with coefficients ``c``."""
+    v, d1, d2 = c[0], 0.0, 0.0
+    for j in range(1, fourier.ORDER + 1):
+        cj, sj = ca.cos(j * theta), ca.sin(j * theta)
+        a, b = c[2 * j - 1], c[2 * j]
+        v = v + a * cj + b * sj
+        d1 = d1 + j * (b * cj - a * sj)
+        d2 = d2 - j * j * (a * cj + b * sj)
+    return v, d1, d2
+
+
+def lift_function(grid: FreeGrid) -> ca.Function:
+    """``walk3d_lift(x[N_X], s[2]) -> Y[n · 78]``: each node's coordinates, rates / ω and
+    accelerations / ω² (the lifted ``Y_k`` of :mod:`walk3d.problem.nlp`) at its phase."""
+    x = ca.SX.sym("x", layout.N_X)
+    s = ca.SX.sym("s", N_S)
+    shift = np.diag(fourier.half_cycle_shift())
+    out = []
+    for theta in grid.phases(s[0], s[1]):
+        vals = []
+        for sr, shifted in layout.COORD_SOURCE:
+            c = [x[sr * layout.N_COEF + j] * (shift[j] if shifted else 1.0)
+                 for j in range(layout.N_COEF)]  # fmt: skip
+            vals.append(_series(theta, c))
+        out += [v[0] for v in vals] + [v[1] for v in vals] + [v[2] for v in vals]
+    return ca.Function("walk3d_lift", [x, s], [ca.vertcat(*out)])
+
+
+def jerk_function(quad0: np.ndarray | None, period0: float) -> ca.Function:
+    """``walk3d_jerk(x, s) -> per-distance jerk term``: the fixed problem's ``Σ q_i x_i²`` at T0
+    (``quad0``, None: no jerk term) is ``∝ T⁻⁵`` (Parseval), times ``T0 / T``."""
+    x = ca.SX.sym("x", layout.N_X)
+    s = ca.SX.sym("s", N_S)
+    if quad0 is None:
+        return ca.Function("walk3d_jerk", [x, s], [0.0 * s[0]])
+    val = ca.dot(ca.DM(quad0), x * x) * (period0 / s[0]) ** 6
+    return ca.Function("walk3d_jerk", [x, s], [val])
+
+
+def fraction_rows(s) -> Any:
+    """``[Td − f_lo T, f_hi T − Td]`` (≥ 0 keeps Td / T in :data:`DS_FRACTION_RANGE`)."""
+    lo, hi = DS_FRACTION_RANGE
+    return ca.vertcat(s[1] - lo * s[0], hi * s[0] - s[1])
+
+
+def descriptor_bounds(
+    free: tuple[str, ...], period: float, ds: float, scale: float = 1.0, pinned: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(lo, hi)`` of ``s``: a given descriptor (or every one when ``pinned``) at its value, a
+    free one in human bounds; ``scale`` is √(h / 1.77 m) of the solved body (1 for the
+    reference subject)."""
+    lo, hi = np.array([period, ds]), np.array([period, ds])
+    if not pinned:
+        if "period" in free:
+            lo[0], hi[0] = PERIOD_RANGE_S[0] * scale, PERIOD_RANGE_S[1] * scale
+        if "double_support" in free:
+            lo[1], hi[1] = DS_FRACTION_RANGE[0] * lo[0], DS_FRACTION_RANGE[1] * hi[0]
+    return lo, hi
+
+
+WALK_RATIO_PER_HEIGHT = 0.0037
+"""Step length / cadence per stature, m/(steps/min)/m: Murray's adults (1964, men: 0.79 m at
+117 steps/min; 1970, women: 0.66 m at 117 steps/min; about 0.0039 and 0.0034 per metre of
+stature), constant from comfortable to fast speeds (Terrier & Schutz 2003)."""
+
+
+def published_cadence(speed: Any, height: float) -> Any:
+    """Adults' cadence at ``speed``, steps/min, from a constant walk ratio
+    (:data:`WALK_RATIO_PER_HEIGHT`): ``V = L C / 60`` with ``L = W h C`` gives
+    ``C = √(60 V / (W h))``."""
+    return np.sqrt(60.0 * np.asarray(speed, dtype=float) / (WALK_RATIO_PER_HEIGHT * height))
+
+
+def published_ds_fraction(speed: Any) -> Any:
+    """Adults' ``Td / T`` at ``speed``: stance ``64.2 − 3.5 V`` % of the cycle (Kirtley, Whittle &
+    Jefferson 1985, 0.5–2 m/s), so one double support is ``0.142 − 0.035 V`` of it."""
+    return 0.142 - 0.035 * np.asarray(speed, dtype=float)
+
+
+def first_guess(speed: float, height: float) -> tuple[float, float]:
+    """``(T, Td)``, s: :func:`published_cadence` and :func:`published_ds_fraction`, within the
+    bounds."""
+    root = math.sqrt(height / 1.77)
+    cadence = float(published_cadence(speed, height))
+    period = float(np.clip(120.0 / cadence, PERIOD_RANGE_S[0] * root, PERIOD_RANGE_S[1] * root))
+    frac = float(np.clip(published_ds_fraction(speed), *DS_FRACTION_RANGE))
+    return period, frac * period
+
+
+def auto_descriptors(
+    speed: float, height: float, period: float | None = None, ds: float | None = None
+) -> tuple[float, float, tuple[str, ...]]:
+    """``(T, Td, free)``: the given descriptors as they are, first guesses (:func:`first_guess`)
+    for the others (None), which are then listed in ``free``. Raises ValueError when a given Td
+    fits no period within the bounds."""
+    free = tuple(name for name, v in zip(NAMES, (period, ds), strict=True) if v is None)
+    t0, td0 = first_guess(speed, height)
+    root = math.sqrt(height / 1.77)  # the bounds are the reference stature's
+    if period is None and ds is not None:
+        lo = max(PERIOD_RANGE_S[0] * root, ds / DS_FRACTION_RANGE[1])
+        hi = min(PERIOD_RANGE_S[1] * root, ds / DS_FRACTION_RANGE[0])
+        if lo > hi:
+            raise ValueError(
+                f"double support {ds:g} s fits no predicted period: Td/T must be within "
+                f"{DS_FRACTION_RANGE[0]:g}-{DS_FRACTION_RANGE[1]:g} and T within "
+                f"{PERIOD_RANGE_S[0] * root:.2f}-{PERIOD_RANGE_S[1] * root:.2f} s"
+            )
+        return float(np.clip(t0, lo, hi)), ds, free
+    if period is not None and ds is None:
+        return period, td0 / t0 * period, free
+    if period is None:
+        return t0, td0, free
+    return period, float(ds), free
