@@ -5,6 +5,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
+
 from walk3d import __version__
 from walk3d.io.errors import OutputWriteError
 from walk3d.problem import similarity, terms
@@ -56,6 +58,7 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "settings": settings.model_dump(),
         "descriptors": descriptor_summary(settings),
         "seed": seed,
+        "start": outcome.stages[-1].get("start", "standing") if outcome.stages else "standing",
         "method": solver,
         "converged": bool(outcome.converged),
         "status": outcome.status,
@@ -97,11 +100,20 @@ def predict(
     out_dir: str | Path | None = None,
     figure: bool = True,
     on_stage: Callable[[str], None] | None = None,
+    warm_from: np.ndarray | None = None,
 ) -> Prediction:
-    """Predict one gait cycle; write the result folder when ``out_dir`` is given."""
+    """Predict one gait cycle; write the result folder when ``out_dir`` is given.
+    ``warm_from``: another prediction's decision vector (the subject's, ``summary.json``'s
+    ``coefficients``) to start from instead of standing (:func:`walk3d.solve.ipopt.solve_warm`;
+    the settings must predict a descriptor)."""
     from walk3d.solve import run_solver
+    from walk3d.solve.ipopt import solve_warm
 
-    outcome = run_solver(settings, seed, solver, on_stage=on_stage)
+    if warm_from is None:
+        outcome = run_solver(settings, seed, solver, on_stage=on_stage)
+    else:
+        x_ref = similarity.subject_x(warm_from, 1.0 / similarity.length_scale(settings))
+        outcome = solve_warm(settings, x_ref, solver, on_stage=on_stage)
     settings = with_predicted(settings, outcome.descriptors)
     if on_stage:
         on_stage("evaluating the cycle")

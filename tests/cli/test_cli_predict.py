@@ -147,3 +147,26 @@ def test_ctrl_c_stops_predict_with_one_line_exit_130_and_no_output(tmp_path):
     assert err.strip().splitlines() == ["walk3d: interrupted"], err
     assert time.perf_counter() - t0 < 15  # IPOPT stops at its next iteration, no restart
     assert not out.exists()
+
+
+def test_paper_flag_gives_the_papers_case_and_auto_predicts_the_descriptors(tmp_path):
+    """--paper: the paper's subject, V, T, Td and C_tor, nothing predicted; without it T and Td
+    are predicted (``summary.json``'s ``descriptors``). Three iterations: not converged."""
+    env = os.environ | {"OPENBLAS_NUM_THREADS": "1", "COLUMNS": "200"}
+    fast = ["--nodes", "6", "--max-iter", "3", "--restarts", "0", "--threads", "1"]
+    outs = {}
+    for name, extra in [("paper", ["--paper"]), ("auto", ["--speed", "1.2", "--mass", "60"])]:
+        out = tmp_path / name
+        cmd = [sys.executable, "-m", "walk3d.cli", "predict", "--out", str(out), *fast, *extra]
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=env)
+        assert r.returncode == 1 and "Traceback" not in r.stderr, r.stderr
+        assert "descriptors" in r.stdout and "cadence" in r.stdout
+        outs[name] = json.loads((out / "summary.json").read_text())
+    paper, auto = outs["paper"], outs["auto"]
+    assert paper["descriptors"]["predicted"] == [] and paper["settings"]["gait"]["free"] == []
+    assert (paper["descriptors"]["period"], paper["descriptors"]["double_support"]) == (1.08, 0.16)
+    assert paper["settings"]["model"]["criterion"] == "tor"
+    assert paper["settings"]["gait"]["mass"] == 68.8 and paper["descriptors"]["speed"] == 1.3806
+    assert auto["descriptors"]["predicted"] == ["period", "double_support"]
+    assert auto["settings"]["gait"]["mass"] == 60 and auto["descriptors"]["speed"] == 1.2
+    assert auto["settings"]["model"]["criterion"] != "tor"

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import casadi as ca
 import numpy as np
@@ -18,7 +18,7 @@ import numpy as np
 from walk3d.problem import descriptors, layout, similarity, terms
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import upright
-from walk3d.solve.plan import END, SUCCESS, Stage, run_plan
+from walk3d.solve.plan import END, SUCCESS, Plan, Stage, run_plan
 from walk3d.solve.progress import (
     Listener,
     StopRule,
@@ -29,7 +29,8 @@ from walk3d.solve.progress import (
 from walk3d.solve.solver import Solver, build_solver
 
 __all__ = ["IPOPT_SUCCESS", "SolveOutcome", "Solver", "build_solver", "descriptor_stage",
-           "full_stage_start", "initial_guess", "solve", "solve_descriptors"]  # fmt: skip
+           "full_stage_start", "initial_guess", "solve", "solve_descriptors",
+           "solve_warm"]  # fmt: skip
 
 IPOPT_SUCCESS = SUCCESS
 """Return statuses counted as converged (:data:`walk3d.solve.plan.SUCCESS`)."""
@@ -192,38 +193,83 @@ def solve_descriptors(
     from that optimum on the phase-following grid (:mod:`walk3d.problem.descriptors`). Why not
     at once: from standing, the free problem ended crouched or at the bounds where the given one
     walks (docs/descriptors.md)."""
-    note = on_stage or (lambda _msg: None)
     fixed = settings.model_copy(update={"gait": settings.gait.model_copy(update={"free": ()})})
     ref, scale = similarity.reference_problem(settings)
     solver = build_solver(ref, method)
     stage = descriptor_stage(ref)
     solver.prepare(stage)  # built while the given problem solves
     first = solve_stages(fixed, seed, method, on_stage)
-    if not first.converged:
-        return first
+    if first.converged:
+        free = _free_stage(solver, stage, first.z[: layout.N_X], scale, on_stage)
+        if free.converged:
+            return _merged(first, free, method)
+    if on_stage:
+        on_stage("predicting the period and double support from standing")
+    return _merged(first, solve_stages(settings, seed, method, on_stage, free_plan=True), method)
+
+
+def solve_warm(
+    settings: PredictionSettings,
+    x_ref: np.ndarray,
+    method: str = "ipopt",
+    on_stage: Callable[[str], None] | None = None,
+) -> SolveOutcome:
+    """Only :func:`descriptor_stage`, started from another prediction's decision vector
+    ``x_ref`` (the reference subject's units, ``SolveOutcome.z[:N_X]``) at the first guess of
+    ``settings`` (which must predict a descriptor): a neighbour's solution in ``walk3d sweep``."""
+    if not settings.gait.free:
+        raise ValueError("a warm start needs a predicted period or double support")
+    with interruptible():
+        ref, scale = similarity.reference_problem(settings)
+        solver = build_solver(ref, method)
+        outcome = _free_stage(solver, descriptor_stage(ref), x_ref, scale, on_stage)
+        outcome.stages[-1]["start"] = "warm"
+        return outcome
+
+
+def _free_stage(
+    solver: Solver, stage: Stage, x_ref: np.ndarray, scale: float, on_stage=None
+) -> SolveOutcome:
+    """Run ``stage`` (the descriptors free) from ``x_ref`` at the solver's first guess of s."""
+    note = on_stage or (lambda _msg: None)
     t0 = time.perf_counter()
     note(stage.title)
     w0 = np.array([0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
-    z0 = full_stage_start(solver, _z_from_x(solver, first.z[: layout.N_X], w0))
+    z0 = full_stage_start(solver, _z_from_x(solver, np.asarray(x_ref, dtype=float), w0))
     listener = None
     if on_stage is not None:
         listener = lambda it, f, viol: on_stage(  # noqa: E731
             f"{stage.label}: iteration {it}, objective {f:.4g}, infeasibility {viol:.0e}"
         )
     z, record = _run(solver.stage(stage), solver, z0, stage.name, stage.problem, listener)
-    record["attempt"] = first.attempts - 1
+    record["attempt"] = 0
     if record["status"] in SUCCESS:
         _reject_crouch(solver, z, record, note)
     found = z[solver.layout.z("s")] * np.sqrt(scale)  # the subject's time scale
     return SolveOutcome(
         x=similarity.subject_x(z[: layout.N_X], scale), z=z,
         converged=record["status"] in SUCCESS, status=record["status"],
-        iterations=first.iterations + record["iterations"],
-        wall_time_s=first.wall_time_s + time.perf_counter() - t0,
-        stages=[*first.stages, record], solver=method, attempts=first.attempts,
-        max_constraint_violation=record["max_constraint_violation"],
-        compiled_derivatives=sorted(set(first.compiled_derivatives) | set(solver.compiled)),
+        iterations=record["iterations"], wall_time_s=time.perf_counter() - t0,
+        stages=[record], max_constraint_violation=record["max_constraint_violation"],
+        compiled_derivatives=sorted(solver.compiled),
         descriptors=dict(zip(descriptors.NAMES, map(float, found), strict=True)),
+    )  # fmt: skip
+
+
+def _merged(first: SolveOutcome, free: SolveOutcome, method: str) -> SolveOutcome:
+    """The outcome of ``first``'s stages followed by ``free``'s."""
+    for record in free.stages:
+        record["attempt"] = record.get("attempt", 0) + first.attempts
+    return SolveOutcome(
+        x=free.x, z=free.z, converged=free.converged, status=free.status,
+        iterations=first.iterations + free.iterations,
+        wall_time_s=first.wall_time_s + free.wall_time_s,
+        stages=[*first.stages, *free.stages], solver=method,
+        attempts=first.attempts + free.attempts,
+        max_constraint_violation=free.max_constraint_violation,
+        compiled_derivatives=sorted(set(first.compiled_derivatives)
+                                    | set(free.compiled_derivatives)),
+        descriptors=free.descriptors,
     )  # fmt: skip
 
 
@@ -232,6 +278,7 @@ def solve_stages(
     seed: int = 0,
     method: str = "ipopt",
     on_stage: Callable[[str], None] | None = None,
+    free_plan: bool = False,
 ) -> SolveOutcome:
     """Predict one gait cycle from the standing start of ``seed``.
 
@@ -239,17 +286,22 @@ def solve_stages(
     final stage reports success. Any mass and stature is solved as the reference subject's
     problem (:mod:`walk3d.problem.similarity`) and ``x`` mapped back. ``on_stage`` receives
     progress messages: each stage as it starts, then, every IPOPT iteration, the stage's
-    label with its iteration, objective and largest constraint violation."""
+    label with its iteration, objective and largest constraint violation. ``free_plan``: the
+    full stages free the predicted descriptors (``settings.gait.free``)."""
     note = on_stage or (lambda _msg: None)
     note("building the model")
     ref, scale = similarity.reference_problem(settings)
     solver = build_solver(ref, method)
+    plan = solver.plan
+    if free_plan:
+        plan = Plan(tuple(replace(st, problem="free") if st.problem == "full" else st
+                          for st in plan.stages))  # fmt: skip
     raise_if_interrupted()
     t0 = time.perf_counter()
     ends: dict[str, np.ndarray] = {}  # the attempt's standing start and the last stage's end
 
     def run_stage(stage: Stage, attempt: int) -> dict:
-        if stage is solver.plan.first:
+        if stage is plan.first:
             ends["standing"] = initial_guess(solver, seed, attempt)
         if stage.start == "criterion":
             z0 = full_stage_start(solver, ends["previous"])
@@ -267,12 +319,13 @@ def solve_stages(
         stop = (lambda it, _f, viol: stage.stops(it, viol)) if stage.checks else None
         ends["previous"], record = _run(fn, solver, z0, stage.name, stage.problem, listener, stop)
         again = stage.on_failure != END or attempt < ref.solver.restarts
-        if stage.problem == "full" and record["status"] in SUCCESS and again:
+        if stage.problem in ("full", "free") and record["status"] in SUCCESS and again:
             _reject_crouch(solver, ends["previous"], record, note)
         return record
 
-    result = run_plan(solver.plan, ref.solver.restarts, run_stage, note)
+    result = run_plan(plan, ref.solver.restarts, run_stage, note)
     last = result.records[-1]
+    found = ends["previous"][solver.layout.z("s")] * np.sqrt(scale)  # the subject's time scale
     return SolveOutcome(
         x=similarity.subject_x(ends["previous"][: layout.N_X], scale),
         z=ends["previous"],
@@ -285,4 +338,5 @@ def solve_stages(
         attempts=result.attempts,
         max_constraint_violation=last["max_constraint_violation"],
         compiled_derivatives=sorted(solver.compiled),
+        descriptors=dict(zip(descriptors.NAMES, map(float, found), strict=False)),
     )

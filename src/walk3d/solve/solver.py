@@ -291,6 +291,12 @@ def build_solver(
     return _build(settings, method, model_cache.cache_enabled(cache))
 
 
+def forget_solvers() -> None:
+    """Drop the solvers kept in memory (:func:`build_solver`): a sweep's every speed builds its
+    own, and each holds hundreds of MB."""
+    _build.cache_clear()
+
+
 def compiled_status(settings: PredictionSettings) -> dict:
     """``{"compiled": [kinds], "missing": number of libraries still to compile}`` for the
     solves of these settings (those of the reference subject, :mod:`walk3d.problem.similarity`,

@@ -1,0 +1,225 @@
+"""``walk3d sweep``: predictions across walking speeds with the period and double support
+predicted, each started from its solved neighbour.
+
+The folder:
+
+* ``sweep.json``: the settings (speed aside) and the speeds; a rerun with other settings is
+  refused, a rerun with the same ones resumes;
+* ``speeds/v_<speed>/``: one ``walk3d predict`` folder per speed, written atomically, so a speed
+  is either finished or absent;
+* ``sweep.csv``: one row per speed (:data:`COLUMNS`), and ``sweep.png``
+  (:func:`walk3d.plots.sweep.sweep_figure`).
+
+Order: the speed nearest :data:`PIVOT_SPEED` is solved from standing (the full plan of
+:func:`walk3d.solve.ipopt.solve_descriptors`); then, outwards, each speed starts from its
+solved neighbour's coefficients, period and double support
+(:func:`walk3d.solve.ipopt.solve_warm`). A warm start that does not converge, or does not look
+like walking, is solved again from standing.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from walk3d.io._atomic import atomic_write_text
+from walk3d.problem import descriptors, terms
+from walk3d.problem.settings import PredictionSettings
+
+__all__ = ["COLUMNS", "SweepMismatch", "SweepReport", "parse_speeds", "run_sweep", "sweep_order"]
+
+PIVOT_SPEED = 1.3
+"""Speed (m/s) solved first, from standing: the middle of adults' walking speeds."""
+MAX_SPEEDS = 41
+COLUMNS = (
+    "speed", "period", "double_support", "stride_length", "cadence", "stance_fraction",
+    "published_cadence", "cadence_error", "converged", "status", "start", "iterations",
+    "wall_time_s", "criterion_value", "criterion_per_metre", "looks_like_walking",
+    "peak_vertical_grf_bw", "pelvis_rotation_range_deg", "step_width_m", "roughness_worst",
+)  # fmt: skip
+"""Columns of ``sweep.csv``: SI units, cadence in steps/min; ``published_cadence`` from
+:func:`walk3d.problem.descriptors.published_cadence` and ``cadence_error`` the relative
+difference; ``start``: ``standing`` or ``warm`` (from a neighbour)."""
+
+
+class SweepMismatch(ValueError):
+    """The folder holds a sweep with other settings."""
+
+
+def parse_speeds(text: str) -> np.ndarray:
+    """``start:stop:step`` (stop included) or a comma list, m/s; ValueError for a range that is
+    empty, reversed, or outside (0, 4] m/s."""
+    try:
+        if ":" in text:
+            parts = [float(p) for p in text.split(":")]
+            if len(parts) != 3:
+                raise ValueError
+            a, b, step = parts
+            if not all(map(math.isfinite, parts)) or step <= 0 or b < a:
+                raise ValueError(f"--speeds {text}: the range is empty or reversed "
+                                 "(start:stop:step with start <= stop and step > 0)")  # fmt: skip
+            n = int(math.floor((b - a) / step + 1e-9)) + 1
+            speeds = np.round(a + step * np.arange(n), 6)
+        else:
+            speeds = np.array([float(p) for p in text.split(",") if p.strip()])
+    except ValueError as exc:
+        expected = f"--speeds {text}: expected start:stop:step or a list like 1.0,1.2,1.4 (m/s)"
+        raise ValueError(str(exc) if str(exc).startswith("--speeds") else expected) from None
+    if speeds.size == 0:
+        raise ValueError(f"--speeds {text}: no speed")
+    if not np.all((speeds > 0) & (speeds <= 4.0)):
+        raise ValueError(f"--speeds {text}: every speed must be in (0, 4] m/s")
+    if speeds.size > MAX_SPEEDS or np.unique(speeds).size != speeds.size:
+        raise ValueError(f"--speeds {text}: at most {MAX_SPEEDS} distinct speeds")
+    return np.sort(speeds)
+
+
+def sweep_order(speeds: np.ndarray) -> list[tuple[int, int | None]]:
+    """``(index, neighbour index or None)`` in solving order: the speed nearest
+    :data:`PIVOT_SPEED` first (no neighbour), then outwards, each after its neighbour."""
+    first = int(np.argmin(np.abs(speeds - PIVOT_SPEED)))
+    order: list[tuple[int, int | None]] = [(first, None)]
+    lo, hi = first - 1, first + 1
+    while lo >= 0 or hi < len(speeds):
+        if hi < len(speeds):
+            order.append((hi, hi - 1))
+            hi += 1
+        if lo >= 0:
+            order.append((lo, lo + 1))
+            lo -= 1
+    return order
+
+
+def speed_folder(out: Path, speed: float) -> Path:
+    return out / "speeds" / f"v_{speed:.3f}"
+
+
+def _check_folder(out: Path, settings: PredictionSettings) -> None:
+    """Write ``sweep.json``, or refuse a folder whose sweep has other settings."""
+    key = settings.model_dump(mode="json")
+    key["gait"].pop("speed")
+    for name in ("period", "double_support"):  # first guesses, per speed
+        key["gait"].pop(name)
+    path = out / "sweep.json"
+    if path.is_file():
+        stored = json.loads(path.read_text())
+        if stored.get("settings") != key:
+            raise SweepMismatch(f"{out} holds a sweep with other settings; use a new folder "
+                                "or the same options")  # fmt: skip
+        return
+    out.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(path, json.dumps({"settings": key}, indent=1) + "\n")
+
+
+def _at_speed(settings: PredictionSettings, speed: float, guess: tuple[float, float] | None):
+    t, td = guess or descriptors.first_guess(speed, settings.gait.height)
+    gait = settings.gait.model_copy(update={"speed": speed, "period": t, "double_support": td,
+                                            "free": descriptors.NAMES})  # fmt: skip
+    return settings.model_copy(update={"gait": gait})
+
+
+def table_row(summary: dict, criterion: str) -> dict:
+    """One row of ``sweep.csv`` (:data:`COLUMNS`) from a prediction's summary."""
+    d, g = summary["descriptors"], summary.get("gait_checks") or {}
+    value = (summary.get("objective") or {}).get(terms.label(criterion), {}).get("total")
+    height = summary["settings"]["gait"]["height"]
+    published = float(descriptors.published_cadence(d["speed"], height))
+    return {
+        **{k: d[k] for k in ("speed", "period", "double_support", "stride_length", "cadence",
+                             "stance_fraction")},
+        "published_cadence": published, "cadence_error": d["cadence"] / published - 1.0,
+        "converged": summary["converged"], "status": summary["status"],
+        "start": summary.get("start", "standing"), "iterations": summary["iterations"],
+        "wall_time_s": summary["wall_time_s"], "criterion_value": value,
+        "criterion_per_metre": None if value is None else value / d["stride_length"],
+        "looks_like_walking": g.get("looks_like_walking"),
+        "peak_vertical_grf_bw": g.get("peak_vertical_grf_bw"),
+        "pelvis_rotation_range_deg": g.get("pelvis_rotation_range_deg"),
+        "step_width_m": summary.get("step_width_m"), "roughness_worst": g.get("roughness_worst"),
+    }  # fmt: skip
+
+
+def write_table(path: Path, rows: list[dict]) -> None:
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=COLUMNS, lineterminator="\n")
+    w.writeheader()
+    for r in rows:
+        w.writerow({k: ("" if r[k] is None else r[k]) for k in COLUMNS})
+    atomic_write_text(path, buf.getvalue())
+
+
+@dataclass
+class SweepReport:
+    rows: list[dict] = field(default_factory=list)
+    """Table rows by increasing speed."""
+    ran: int = 0
+    skipped: int = 0
+    """Speeds solved now, and speeds read from an earlier run."""
+    wall_time_s: float = 0.0
+
+
+def run_sweep(
+    settings: PredictionSettings,
+    speeds: np.ndarray,
+    out: str | Path,
+    seed: int = 0,
+    solver: str = "ipopt",
+    on_progress: Callable[[str, int, int], None] | None = None,
+) -> SweepReport:
+    """Predict at each speed (module doc) and write the folder; ``on_progress(message, done,
+    total)`` after each speed and ``(message, done, total)`` with solver messages meanwhile."""
+    from walk3d.predict import predict, write_result
+    from walk3d.results.prediction import load_result
+    from walk3d.solve.solver import forget_solvers
+
+    t0 = time.perf_counter()
+    out = Path(out)
+    _check_folder(out, settings)
+    report = SweepReport()
+    summaries: dict[int, dict] = {}
+    order = sweep_order(speeds)
+    for done, (i, nb) in enumerate(order):
+        v = float(speeds[i])
+        folder = speed_folder(out, v)
+        if (folder / "summary.json").is_file():
+            summaries[i] = load_result(folder).summary
+            report.skipped += 1
+            continue
+
+        def note(msg: str, v=v, done=done) -> None:
+            if on_progress:
+                on_progress(f"{v:.2f} m/s: {msg}", done, len(order))
+
+        pred = None
+        if nb is not None and summaries[nb]["converged"]:
+            prev = summaries[nb]
+            guess = (prev["descriptors"]["period"], prev["descriptors"]["double_support"])
+            pred = predict(_at_speed(settings, v, guess), seed, solver, on_stage=note,
+                           warm_from=np.array(prev["coefficients"]["x"]))  # fmt: skip
+            ok = pred.summary["converged"] and pred.summary["gait_checks"]["looks_like_walking"]
+            if not ok:
+                note("the warm start did not walk: solving from standing")
+                pred = None
+        if pred is None:
+            pred = predict(_at_speed(settings, v, None), seed, solver, on_stage=note)
+        write_result(pred, folder)
+        forget_solvers()  # the next speed's are other solvers
+        summaries[i] = pred.summary
+        report.ran += 1
+        if on_progress:
+            on_progress(f"{v:.2f} m/s done", done + 1, len(order))
+    report.rows = [table_row(summaries[i], settings.model.criterion) for i in range(len(speeds))]
+    write_table(out / "sweep.csv", report.rows)
+    from walk3d.plots.sweep import sweep_figure
+
+    sweep_figure(report.rows, settings.gait.height, out / "sweep.png")
+    report.wall_time_s = time.perf_counter() - t0
+    return report

@@ -1,0 +1,86 @@
+"""walk3d sweep: the speed range and its errors, the solving order, and a tiny real sweep that
+writes its folder, table and figure and resumes (convergence is not expected)."""
+
+import csv
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from walk3d.campaign.sweep import (
+    COLUMNS,
+    SweepMismatch,
+    parse_speeds,
+    run_sweep,
+    speed_folder,
+    sweep_order,
+)
+from walk3d.problem import descriptors
+from walk3d.problem.settings import PredictionSettings
+
+
+def test_speed_ranges_include_their_stop():
+    np.testing.assert_allclose(parse_speeds("0.8:1.8:0.1"), np.arange(8, 19) / 10)
+    np.testing.assert_allclose(parse_speeds("1.4,1.0,1.2"), [1.0, 1.2, 1.4])
+    assert parse_speeds("1.3:1.3:0.1").tolist() == [1.3]
+
+
+@pytest.mark.parametrize(
+    ("text", "word"),
+    [("1.8:0.8:0.1", "empty or reversed"), ("1:2:0", "empty or reversed"),
+     ("0:1:0.5", "(0, 4]"), ("3:5:1", "(0, 4]"), ("fast", "expected start:stop:step"),
+     ("1:2", "expected start:stop:step"), ("", "no speed"), ("1,1", "distinct")],
+)  # fmt: skip
+def test_bad_speed_ranges_are_refused(text, word):
+    with pytest.raises(ValueError, match="--speeds") as info:
+        parse_speeds(text)
+    assert word in str(info.value)
+
+
+@pytest.mark.parametrize("text", ["1.8:0.8:0.1", "0:1:0.5", "1,nan", "x"])
+def test_cli_refuses_a_bad_range_with_one_line_and_exit_2(tmp_path, text):
+    cmd = [sys.executable, "-m", "walk3d.cli", "sweep", "--speeds", text, "--out",
+           str(tmp_path / "s")]  # fmt: skip
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1 and "--speeds" in r.stderr
+    assert not (tmp_path / "s").exists()
+
+
+def test_order_starts_near_the_pivot_and_each_speed_follows_a_solved_neighbour():
+    speeds = parse_speeds("0.8:1.8:0.1")
+    order = sweep_order(speeds)
+    assert speeds[order[0][0]] == pytest.approx(1.3) and order[0][1] is None
+    assert sorted(i for i, _ in order) == list(range(len(speeds)))
+    seen = set()
+    for i, nb in order:
+        assert nb is None or (nb in seen and abs(nb - i) == 1)
+        seen.add(i)
+
+
+def test_a_tiny_sweep_writes_its_table_figure_and_folders_and_resumes(tmp_path):
+    t, td = descriptors.first_guess(1.2, 1.77)
+    tiny = PredictionSettings(nodes=6, max_iter=3, restarts=0, criterion="tor", speed=1.2,
+                              period=t, double_support=td, free=descriptors.NAMES)  # fmt: skip
+    speeds = np.array([1.2, 1.4])
+    report = run_sweep(tiny, speeds, tmp_path / "s")
+    assert report.ran == 2 and report.skipped == 0
+    for v in speeds:
+        summary = json.loads((speed_folder(tmp_path / "s", v) / "summary.json").read_text())
+        d = summary["descriptors"]
+        assert d["speed"] == v and d["predicted"] == ["period", "double_support"]
+        assert d["cadence"] == pytest.approx(120 / d["period"])
+        assert d["stride_length"] == pytest.approx(v * d["period"])
+        assert d["stance_fraction"] == pytest.approx(0.5 + d["double_support"] / d["period"])
+    with open(tmp_path / "s" / "sweep.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [float(r["speed"]) for r in rows] == [1.2, 1.4] and list(rows[0]) == list(COLUMNS)
+    assert all(r["converged"] == "False" for r in rows)  # 3 iterations cannot converge
+    assert (tmp_path / "s" / "sweep.png").stat().st_size > 10_000
+    again = run_sweep(tiny, speeds, tmp_path / "s")
+    assert again.ran == 0 and again.skipped == 2
+    other = tiny.model_copy(update={"model": tiny.model.model_copy(update={"criterion": "en"})})
+    with pytest.raises(SweepMismatch):
+        run_sweep(other, speeds, tmp_path / "s")
