@@ -140,7 +140,8 @@ def test_cli_refuses_changed_settings_on_resume(tmp_path, args, word):
     store.open_campaign(out, TINY, 0, 2, "ipopt")
     before = (out / "campaign.json").read_bytes()
     cmd = [sys.executable, "-m", "walk3d.cli", "campaign", "--starts", "2", "--out", str(out),
-           "--nodes", "6", "--max-iter", "3", "--criterion", "tor", *args]  # fmt: skip
+           "--nodes", "6", "--max-iter", "3", "--criterion", "tor", "--period", "1.08",
+           "--double-support", "0.16", *args]  # fmt: skip
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
     assert r.returncode == 2, r.stderr
     lines = r.stderr.strip().splitlines()
@@ -174,7 +175,8 @@ def test_cli_campaign_takes_a_calibration_like_predict(tmp_path):
 
     path = write_calibration(tmp_path / "cal.json", sample_calibration().to_dict())
     base = [sys.executable, "-m", "walk3d.cli", "campaign", "--starts", "2", "--nodes", "6",
-            "--max-iter", "3", "--criterion", "tor"]  # fmt: skip
+            "--max-iter", "3", "--criterion", "tor", "--period", "1.08",
+            "--double-support", "0.16"]  # fmt: skip
     missing = tmp_path / "missing"
     r = subprocess.run([*base, "--out", str(missing), "--calibration", str(tmp_path / "no.json")],
                        capture_output=True, text=True, timeout=60)  # fmt: skip

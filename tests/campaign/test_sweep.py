@@ -84,3 +84,37 @@ def test_a_tiny_sweep_writes_its_table_figure_and_folders_and_resumes(tmp_path):
     other = tiny.model_copy(update={"model": tiny.model.model_copy(update={"criterion": "en"})})
     with pytest.raises(SweepMismatch):
         run_sweep(other, speeds, tmp_path / "s")
+
+
+def test_a_failed_warm_start_goes_through_the_speed_halfway(monkeypatch):
+    """The continuation logic on scripted solves: a warm start walks only across steps of at
+    most 0.05 m/s, so 1.1 -> 1.0 goes through 1.05, and 1.1 -> 0.9 with one halving left fails
+    (the sweep then solves from standing)."""
+    import walk3d.predict as predict_module
+    from walk3d.campaign import sweep as sweep_module
+
+    class Fake:
+        def __init__(self, summary):
+            self.summary = summary
+
+    def summary(v, ok, iterations=10):
+        return {"descriptors": {"speed": v, "period": 1.1, "double_support": 0.12},
+                "coefficients": {"x": [v]}, "converged": ok, "iterations": iterations,
+                "wall_time_s": 1.0, "gait_checks": {"looks_like_walking": ok}}  # fmt: skip
+
+    calls = []
+
+    def fake_predict(settings, seed, solver, on_stage=None, warm_from=None):
+        v, v0 = settings.gait.speed, float(warm_from[0])
+        calls.append((v0, v))
+        return Fake(summary(v, abs(v - v0) <= 0.05 + 1e-9))
+
+    monkeypatch.setattr(predict_module, "predict", fake_predict)
+    settings = PredictionSettings(free=descriptors.NAMES)
+    pred = sweep_module._warm(settings, summary(1.1, True), 1.0, 0, "ipopt", print, 2)
+    assert pred is not None and calls == [(1.1, 1.0), (1.1, 1.05), (1.05, 1.0)]
+    assert pred.summary["sweep"]["via"] == [1.05] and pred.summary["sweep"]["from_speed"] == 1.1
+    assert pred.summary["sweep"]["extra_iterations"] == 10
+    calls.clear()
+    assert sweep_module._warm(settings, summary(1.1, True), 0.9, 0, "ipopt", print, 1) is None
+    assert calls == [(1.1, 0.9), (1.1, 1.0)]  # 1.0 itself would need one halving more

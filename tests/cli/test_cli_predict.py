@@ -83,7 +83,8 @@ def test_a_prediction_that_did_not_converge_is_written_labelled_and_exits_1(tmp_
     anyway, labelled as not converged everywhere, and the command exits with code 1."""
     out = tmp_path / "o"
     cmd = [sys.executable, "-m", "walk3d.cli", "predict", "--out", str(out), "--nodes", "6",
-           "--max-iter", "3", "--threads", "1"]  # fmt: skip
+           "--max-iter", "3", "--threads", "1", "--period", "1.08",
+           "--double-support", "0.16"]  # fmt: skip
     env = os.environ | {"OPENBLAS_NUM_THREADS": "1", "COLUMNS": "200"}
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=env)
     assert r.returncode == 1, r.stderr

@@ -14,7 +14,9 @@ Order: the speed nearest :data:`PIVOT_SPEED` is solved from standing (the full p
 :func:`walk3d.solve.ipopt.solve_descriptors`); then, outwards, each speed starts from its
 solved neighbour's coefficients, period and double support
 (:func:`walk3d.solve.ipopt.solve_warm`). A warm start that does not converge, or does not look
-like walking, is solved again from standing.
+like walking, goes through the speed halfway first (:data:`CONTINUATION_DEPTH` times at most),
+and then from standing. At the end, a speed that still does not walk (from this run or an
+earlier one) is tried once more from its other neighbour, if that one walks.
 """
 
 from __future__ import annotations
@@ -38,16 +40,22 @@ __all__ = ["COLUMNS", "SweepMismatch", "SweepReport", "parse_speeds", "run_sweep
 
 PIVOT_SPEED = 1.3
 """Speed (m/s) solved first, from standing: the middle of adults' walking speeds."""
+CONTINUATION_DEPTH = 2
+"""Halvings of the speed step a warm start may take before the speed is solved from standing
+(from 1.1 to 1.0 m/s the warm start stopped at its iteration limit; through 1.05 it walked in
+60 + 55 iterations)."""
 MAX_SPEEDS = 41
 COLUMNS = (
     "speed", "period", "double_support", "stride_length", "cadence", "stance_fraction",
     "published_cadence", "cadence_error", "converged", "status", "start", "iterations",
-    "wall_time_s", "criterion_value", "criterion_per_metre", "looks_like_walking",
+    "wall_time_s", "via", "criterion_value", "criterion_per_metre", "looks_like_walking",
     "peak_vertical_grf_bw", "pelvis_rotation_range_deg", "step_width_m", "roughness_worst",
 )  # fmt: skip
 """Columns of ``sweep.csv``: SI units, cadence in steps/min; ``published_cadence`` from
 :func:`walk3d.problem.descriptors.published_cadence` and ``cadence_error`` the relative
-difference; ``start``: ``standing`` or ``warm`` (from a neighbour)."""
+difference; ``start``: ``standing`` or ``warm`` (from a neighbour), ``via``: the speeds solved
+in between (``;``-separated), whose iterations and time are not in ``iterations`` and
+``wall_time_s``."""
 
 
 class SweepMismatch(ValueError):
@@ -126,6 +134,40 @@ def _at_speed(settings: PredictionSettings, speed: float, guess: tuple[float, fl
     return settings.model_copy(update={"gait": gait})
 
 
+def _walks(summary: dict) -> bool:
+    return bool(summary["converged"] and summary["gait_checks"]["looks_like_walking"])
+
+
+def _warm(settings, prev: dict, v: float, seed: int, solver: str, note, depth: int):
+    """The prediction at ``v`` started from the solved ``prev`` (a summary), or None if it does
+    not walk even through ``depth`` halvings of the speed step (each intermediate speed is
+    solved the same way and only its solution kept). The result's summary gets ``sweep``:
+    the speed it came from, the speeds in between and their iterations and solve time."""
+    from walk3d.predict import predict
+
+    d = prev["descriptors"]
+    pred = predict(_at_speed(settings, v, (d["period"], d["double_support"])), seed, solver,
+                   on_stage=note, warm_from=np.array(prev["coefficients"]["x"]))  # fmt: skip
+    if _walks(pred.summary):
+        pred.summary["sweep"] = {"from_speed": d["speed"], "via": [], "extra_iterations": 0,
+                                 "extra_wall_time_s": 0.0}  # fmt: skip
+        return pred
+    if depth == 0:
+        return None
+    mid = round((d["speed"] + v) / 2, 6)
+    note(f"the warm start did not walk: through {mid:.3f} m/s first")
+    half = _warm(settings, prev, mid, seed, solver, note, depth - 1)
+    if half is None:
+        return None
+    pred = _warm(settings, half.summary, v, seed, solver, note, depth - 1)
+    if pred is not None:
+        a, b = half.summary["sweep"], pred.summary["sweep"]
+        b["from_speed"], b["via"] = d["speed"], [*a["via"], mid, *b["via"]]
+        b["extra_iterations"] += a["extra_iterations"] + half.summary["iterations"]
+        b["extra_wall_time_s"] += a["extra_wall_time_s"] + half.summary["wall_time_s"]
+    return pred
+
+
 def table_row(summary: dict, criterion: str) -> dict:
     """One row of ``sweep.csv`` (:data:`COLUMNS`) from a prediction's summary."""
     d, g = summary["descriptors"], summary.get("gait_checks") or {}
@@ -138,7 +180,9 @@ def table_row(summary: dict, criterion: str) -> dict:
         "published_cadence": published, "cadence_error": d["cadence"] / published - 1.0,
         "converged": summary["converged"], "status": summary["status"],
         "start": summary.get("start", "standing"), "iterations": summary["iterations"],
-        "wall_time_s": summary["wall_time_s"], "criterion_value": value,
+        "wall_time_s": summary["wall_time_s"],
+        "via": ";".join(f"{u:g}" for u in (summary.get("sweep") or {}).get("via", [])),
+        "criterion_value": value,
         "criterion_per_metre": None if value is None else value / d["stride_length"],
         "looks_like_walking": g.get("looks_like_walking"),
         "peak_vertical_grf_bw": g.get("peak_vertical_grf_bw"),
@@ -200,14 +244,9 @@ def run_sweep(
 
         pred = None
         if nb is not None and summaries[nb]["converged"]:
-            prev = summaries[nb]
-            guess = (prev["descriptors"]["period"], prev["descriptors"]["double_support"])
-            pred = predict(_at_speed(settings, v, guess), seed, solver, on_stage=note,
-                           warm_from=np.array(prev["coefficients"]["x"]))  # fmt: skip
-            ok = pred.summary["converged"] and pred.summary["gait_checks"]["looks_like_walking"]
-            if not ok:
+            pred = _warm(settings, summaries[nb], v, seed, solver, note, CONTINUATION_DEPTH)
+            if pred is None:
                 note("the warm start did not walk: solving from standing")
-                pred = None
         if pred is None:
             pred = predict(_at_speed(settings, v, None), seed, solver, on_stage=note)
         write_result(pred, folder)
@@ -216,6 +255,24 @@ def run_sweep(
         report.ran += 1
         if on_progress:
             on_progress(f"{v:.2f} m/s done", done + 1, len(order))
+    for i in range(len(speeds)):  # second pass: a failed speed from its other neighbour
+        if _walks(summaries[i]):
+            continue
+        for nb in (i + 1, i - 1):
+            if 0 <= nb < len(speeds) and _walks(summaries[nb]) and (i, nb) not in order:
+                v = float(speeds[i])
+                if on_progress:
+                    on_progress(f"{v:.2f} m/s again, from {speeds[nb]:.2f} m/s", len(order),
+                                len(order))  # fmt: skip
+                pred = _warm(
+                    settings, summaries[nb], v, seed, solver, lambda _m: None, CONTINUATION_DEPTH
+                )
+                forget_solvers()
+                if pred is not None:
+                    write_result(pred, speed_folder(out, v))
+                    summaries[i] = pred.summary
+                    report.ran += 1
+                    break
     report.rows = [table_row(summaries[i], settings.model.criterion) for i in range(len(speeds))]
     write_table(out / "sweep.csv", report.rows)
     from walk3d.plots.sweep import sweep_figure
