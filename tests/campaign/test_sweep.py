@@ -118,3 +118,49 @@ def test_a_failed_warm_start_goes_through_the_speed_halfway(monkeypatch):
     calls.clear()
     assert sweep_module._warm(settings, summary(1.1, True), 0.9, 0, "ipopt", print, 1) is None
     assert calls == [(1.1, 0.9), (1.1, 1.0)]  # 1.0 itself would need one halving more
+
+
+def test_the_second_pass_keeps_the_better_of_two_neighbours_starts(tmp_path, monkeypatch):
+    """Scripted: each speed solved once more from its other neighbour keeps the lower criterion
+    per metre; what was tried is recorded, so a resumed sweep does not try it again."""
+    import walk3d.predict as predict_module
+    from walk3d.campaign import sweep as sweep_module
+
+    def summary(v, value, stride=1.0):
+        return {"descriptors": {"speed": v, "period": 1.1, "double_support": 0.12,
+                                "stride_length": stride},
+                "coefficients": {"x": [v]}, "converged": True, "iterations": 5,
+                "wall_time_s": 1.0, "gait_checks": {"looks_like_walking": True},
+                "objective": {"C_tor": {"total": value}}}  # fmt: skip
+
+    class Fake:
+        def __init__(self, s):
+            self.summary = s
+
+    better_from = {(1.0, 1.1): 0.5}  # 1.0 m/s from 1.1: better; every other try: worse
+
+    def fake_predict(settings, seed, solver, on_stage=None, warm_from=None):
+        v, v0 = settings.gait.speed, float(warm_from[0])
+        return Fake(summary(v, better_from.get((v, v0), 9.0)))
+
+    written = []
+    monkeypatch.setattr(predict_module, "predict", fake_predict)
+    monkeypatch.setattr(predict_module, "write_result", lambda p, f: written.append(f.name))
+    speeds = np.array([1.0, 1.1, 1.2])
+    sums = {0: summary(1.0, 2.0), 1: summary(1.1, 2.0), 2: summary(1.2, 2.0)}
+    first_from = {1: None, 0: 1, 2: 1}  # 1.1 first, then 1.0 and 1.2 from it
+    settings = PredictionSettings(free=descriptors.NAMES, criterion="tor")
+    report = sweep_module.SweepReport()
+    args = (settings, speeds, tmp_path, sums, first_from, 0, "ipopt", None, report)
+    sweep_module._second_pass(*args)
+    # 1.0 has no other neighbour; 1.1 is tried from 1.0 and 1.2; 1.2 from nothing new
+    tried = json.loads((tmp_path / "second_pass.json").read_text())
+    assert set(tried) == {"1.100<1.000", "1.100<1.200"}
+    assert written == [] and sums[1]["objective"]["C_tor"]["total"] == 2.0  # both were worse
+    better_from[(1.1, 1.2)] = 1.0
+    sweep_module._second_pass(*args)  # resumed: nothing tried again
+    assert written == []
+    (tmp_path / "second_pass.json").unlink()
+    sweep_module._second_pass(*args)
+    assert written == ["v_1.100"] and sums[1]["objective"]["C_tor"]["total"] == 1.0
+    assert report.ran == 1

@@ -8,15 +8,16 @@ The folder:
 * ``speeds/v_<speed>/``: one ``walk3d predict`` folder per speed, written atomically, so a speed
   is either finished or absent;
 * ``sweep.csv``: one row per speed (:data:`COLUMNS`), and ``sweep.png``
-  (:func:`walk3d.plots.sweep.sweep_figure`).
+  (:func:`walk3d.plots.sweep.sweep_figure`);
+* ``second_pass.json``: the second pass's tries (:func:`_second_pass`).
 
 Order: the speed nearest :data:`PIVOT_SPEED` is solved from standing (the full plan of
 :func:`walk3d.solve.ipopt.solve_descriptors`); then, outwards, each speed starts from its
 solved neighbour's coefficients, period and double support
 (:func:`walk3d.solve.ipopt.solve_warm`). A warm start that does not converge, or does not look
 like walking, goes through the speed halfway first (:data:`CONTINUATION_DEPTH` times at most),
-and then from standing. At the end, a speed that still does not walk (from this run or an
-earlier one) is tried once more from its other neighbour, if that one walks.
+and then from standing. A second pass starts every speed once more from its other neighbour
+and keeps the better of the two optima (:func:`_second_pass`).
 """
 
 from __future__ import annotations
@@ -168,6 +169,47 @@ def _warm(settings, prev: dict, v: float, seed: int, solver: str, note, depth: i
     return pred
 
 
+def _per_metre(summary: dict, criterion: str) -> float:
+    value = (summary.get("objective") or {}).get(terms.label(criterion), {}).get("total")
+    return math.inf if value is None else value / summary["descriptors"]["stride_length"]
+
+
+def _second_pass(settings, speeds, out, summaries, first_from, seed, solver, on_progress, report):
+    """Each speed once more from its other neighbour (the one the first pass did not start it
+    from), if that one walks: the result replaces the speed's when it walks and the speed's did
+    not, or its criterion per metre is lower (the better of two local optima, as a campaign
+    keeps its best start). What was tried is kept in ``second_pass.json``, so a resumed sweep
+    does not try it again."""
+    from walk3d.predict import write_result
+    from walk3d.solve.solver import forget_solvers
+
+    path = out / "second_pass.json"
+    done = json.loads(path.read_text()) if path.is_file() else {}
+    crit = settings.model.criterion
+    for i, v in enumerate(map(float, speeds)):
+        others = [nb for nb in (i - 1, i + 1) if 0 <= nb < len(speeds) and nb != first_from[i]]
+        for nb in others:
+            key = f"{v:.3f}<{float(speeds[nb]):.3f}"
+            if key in done or not _walks(summaries[nb]):
+                continue
+            if on_progress:
+                on_progress(f"{v:.2f} m/s again, from {speeds[nb]:.2f} m/s", len(speeds),
+                            len(speeds))  # fmt: skip
+            depth = 0 if _walks(summaries[i]) else CONTINUATION_DEPTH
+            pred = _warm(settings, summaries[nb], v, seed, solver, lambda _m: None, depth)
+            forget_solvers()
+            keep = pred is not None and (not _walks(summaries[i]) or _per_metre(
+                pred.summary, crit) < _per_metre(summaries[i], crit))  # fmt: skip
+            if keep:
+                write_result(pred, speed_folder(out, v))
+                summaries[i] = pred.summary
+                report.ran += 1
+            done[key] = {"walks": pred is not None, "kept": keep,
+                         "criterion_per_metre": None if pred is None
+                         else _per_metre(pred.summary, crit)}  # fmt: skip
+            atomic_write_text(path, json.dumps(done, indent=1) + "\n")
+
+
 def table_row(summary: dict, criterion: str) -> dict:
     """One row of ``sweep.csv`` (:data:`COLUMNS`) from a prediction's summary."""
     d, g = summary["descriptors"], summary.get("gait_checks") or {}
@@ -255,24 +297,7 @@ def run_sweep(
         report.ran += 1
         if on_progress:
             on_progress(f"{v:.2f} m/s done", done + 1, len(order))
-    for i in range(len(speeds)):  # second pass: a failed speed from its other neighbour
-        if _walks(summaries[i]):
-            continue
-        for nb in (i + 1, i - 1):
-            if 0 <= nb < len(speeds) and _walks(summaries[nb]) and (i, nb) not in order:
-                v = float(speeds[i])
-                if on_progress:
-                    on_progress(f"{v:.2f} m/s again, from {speeds[nb]:.2f} m/s", len(order),
-                                len(order))  # fmt: skip
-                pred = _warm(
-                    settings, summaries[nb], v, seed, solver, lambda _m: None, CONTINUATION_DEPTH
-                )
-                forget_solvers()
-                if pred is not None:
-                    write_result(pred, speed_folder(out, v))
-                    summaries[i] = pred.summary
-                    report.ran += 1
-                    break
+    _second_pass(settings, speeds, out, summaries, dict(order), seed, solver, on_progress, report)
     report.rows = [table_row(summaries[i], settings.model.criterion) for i in range(len(speeds))]
     write_table(out / "sweep.csv", report.rows)
     from walk3d.plots.sweep import sweep_figure
