@@ -8,7 +8,7 @@ import pytest
 
 from walk3d.problem import descriptors, free_nlp, layout, nlp
 from walk3d.problem.bounds import bounds
-from walk3d.problem.schedule import nlp_layout, schedule
+from walk3d.problem.schedule import lifting_maps, nlp_layout, schedule
 from walk3d.problem.settings import PredictionSettings, body_for
 
 FREE = ("period", "double_support")
@@ -33,7 +33,7 @@ def test_grid_follows_the_phases_and_integrates_the_half_cycle():
 def test_lifting_of_s_equals_the_numeric_maps_at_the_first_guess():
     s = _free()
     sch = schedule(s)
-    lift = nlp.lifting_maps(s, sch)
+    lift = lifting_maps(s, sch)
     fn = descriptors.lift_function(descriptors.free_grid(8, 1.1, 0.15))
     x = np.random.default_rng(0).normal(size=layout.N_X)
     want = np.einsum("kij,j->ki", lift, x).ravel()

@@ -181,7 +181,7 @@ def test_model_functions_read_only_the_model_settings_of_the_key(recorded):
 
 
 def test_gait_descriptors_leave_the_node_functions_unchanged(recorded):
-    """V, T and Td reach the node functions as node parameters (nlp.node_params), so the
+    """V, T and Td reach the node functions as node parameters (schedule.node_params), so the
     functions, and with them the key of their compiled derivatives (walk3d compile), are the
     same for any descriptors; the body is not a parameter, so another mass changes them."""
     fns, _ = recorded

@@ -169,9 +169,15 @@ def _warm(settings, prev: dict, v: float, seed: int, solver: str, note, depth: i
     return pred
 
 
-def _per_metre(summary: dict, criterion: str) -> float:
-    value = (summary.get("objective") or {}).get(terms.label(criterion), {}).get("total")
-    return math.inf if value is None else value / summary["descriptors"]["stride_length"]
+def _criterion(summary: dict, criterion: str) -> float | None:
+    """The minimized criterion over the cycle, or None."""
+    return (summary.get("objective") or {}).get(terms.label(criterion), {}).get("total")
+
+
+def _per_metre(summary: dict, criterion: str) -> float | None:
+    """The criterion per metre walked (what the solver minimizes), or None."""
+    value = _criterion(summary, criterion)
+    return None if value is None else value / summary["descriptors"]["stride_length"]
 
 
 def _second_pass(settings, speeds, out, summaries, first_from, seed, solver, on_progress, report):
@@ -198,22 +204,22 @@ def _second_pass(settings, speeds, out, summaries, first_from, seed, solver, on_
             depth = 0 if _walks(summaries[i]) else CONTINUATION_DEPTH
             pred = _warm(settings, summaries[nb], v, seed, solver, lambda _m: None, depth)
             forget_solvers()
-            keep = pred is not None and (not _walks(summaries[i]) or _per_metre(
-                pred.summary, crit) < _per_metre(summaries[i], crit))  # fmt: skip
+            ours = _per_metre(summaries[i], crit)
+            new = None if pred is None else _per_metre(pred.summary, crit)
+            better = new is not None and (ours is None or new < ours)
+            keep = pred is not None and (not _walks(summaries[i]) or better)
             if keep:
                 write_result(pred, speed_folder(out, v))
                 summaries[i] = pred.summary
                 report.ran += 1
-            done[key] = {"walks": pred is not None, "kept": keep,
-                         "criterion_per_metre": None if pred is None
-                         else _per_metre(pred.summary, crit)}  # fmt: skip
+            done[key] = {"walks": pred is not None, "kept": keep, "criterion_per_metre": new}
             atomic_write_text(path, json.dumps(done, indent=1) + "\n")
 
 
 def table_row(summary: dict, criterion: str) -> dict:
     """One row of ``sweep.csv`` (:data:`COLUMNS`) from a prediction's summary."""
     d, g = summary["descriptors"], summary.get("gait_checks") or {}
-    value = (summary.get("objective") or {}).get(terms.label(criterion), {}).get("total")
+    value = _criterion(summary, criterion)
     height = summary["settings"]["gait"]["height"]
     published = float(descriptors.published_cadence(d["speed"], height))
     return {
@@ -225,7 +231,7 @@ def table_row(summary: dict, criterion: str) -> dict:
         "wall_time_s": summary["wall_time_s"],
         "via": ";".join(f"{u:g}" for u in (summary.get("sweep") or {}).get("via", [])),
         "criterion_value": value,
-        "criterion_per_metre": None if value is None else value / d["stride_length"],
+        "criterion_per_metre": _per_metre(summary, criterion),
         "looks_like_walking": g.get("looks_like_walking"),
         "peak_vertical_grf_bw": g.get("peak_vertical_grf_bw"),
         "pelvis_rotation_range_deg": g.get("pelvis_rotation_range_deg"),

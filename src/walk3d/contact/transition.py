@@ -60,6 +60,18 @@ def apply_ratios(w0: Wrench, ratios: TransitionRatios | None, side: str) -> Wren
     )
 
 
+def ratio_map(ratios: TransitionRatios | None) -> np.ndarray:
+    """The map from node 0's heel-strike rows to the trailing foot's load W0: identity, or the
+    calibrated ratios of :func:`apply_ratios` (linear in the rows)."""
+    if ratios is None:
+        return np.eye(6)
+    cols = []
+    for e in np.eye(6):
+        f, m = apply_ratios(((e[0], e[1], e[2]), (e[3], e[4], e[5])), ratios, "l")
+        cols.append([*f, *m])
+    return np.array(cols, dtype=float).T
+
+
 def split(total: Wrench, decay: Any, w0: Wrench, trailing_ankle: V) -> tuple[Wrench, Wrench]:
     """``(root_foot, trailing_foot)`` wrenches, moments about the global origin."""
     f0, m0 = w0

@@ -44,7 +44,7 @@ def params_of(c, s):
 def weight_of(c, s):
     """``w_k(s)``: twice the node's half-cycle quadrature weight (the cycle's integral), per
     distance (× T0 / T, :func:`walk3d.problem.descriptors.objective_scale`)."""
-    return 2 * (c[2] * s[1] + c[3] * (s[0] / 2 - s[1])) * c[4] / s[0]
+    return 2 * (c[2] * s[1] + c[3] * (s[0] / 2 - s[1])) * descriptors.objective_scale(s[0], c[4])
 
 
 def node_coupling(node: ca.Function, crit: int) -> dict[str, ca.Function]:

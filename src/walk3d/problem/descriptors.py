@@ -104,13 +104,6 @@ def objective_scale(period: Any, period0: float) -> Any:
     return period0 / period
 
 
-def node_parameters(grid: FreeGrid, speed: float, period: Any) -> list[list[Any]]:
-    """Each node's ``[decay, anchor_x, ω]`` (:data:`walk3d.problem.layout.N_P`) as functions
-    of T."""
-    return [[float(d), float(sg) * speed * period / 2, 2 * math.pi / period]
-            for d, sg in zip(grid.decay, grid.anchor_sign, strict=True)]  # fmt: skip
-
-
 def _series(theta, c) -> tuple[Any, Any, Any]:
     """Value and first two θ-derivatives of one Fourier series with coefficients ``c``."""
     v, d1, d2 = c[0], 0.0, 0.0
@@ -147,7 +140,7 @@ def jerk_function(quad0: np.ndarray | None, period0: float) -> ca.Function:
     s = ca.SX.sym("s", N_S)
     if quad0 is None:
         return ca.Function("walk3d_jerk", [x, s], [0.0 * s[0]])
-    val = ca.dot(ca.DM(quad0), x * x) * (period0 / s[0]) ** 6
+    val = ca.dot(ca.DM(quad0), x * x) * (period0 / s[0]) ** 5 * objective_scale(s[0], period0)
     return ca.Function("walk3d_jerk", [x, s], [val])
 
 

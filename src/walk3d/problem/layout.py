@@ -70,7 +70,7 @@ N_T = 24
 N_W0 = 6
 """The trailing foot's load at right heel strike: force and moment, in body weights."""
 N_P = 3
-"""Node parameters ``p = [decay, anchor_x, ω]`` (:func:`walk3d.problem.nlp.node_params`). The
+"""Node parameters ``p = [decay, anchor_x, ω]`` (:func:`walk3d.problem.schedule.node_params`). The
 cycle frequency is a parameter, not a constant of the node function, so that one node function,
 and the derivatives compiled from it, serve every V, T and Td of a body."""
 

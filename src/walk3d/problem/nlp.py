@@ -22,18 +22,26 @@ only at the nodes where they apply (double support, swing).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import casadi as ca
 import numpy as np
 
 from walk3d import G
 from walk3d.body.model import BodyModel
 from walk3d.contact.support import foot_points, support_rows
-from walk3d.contact.transition import apply_ratios
+from walk3d.contact.transition import ratio_map
 from walk3d.problem import layout, terms
 from walk3d.problem.criteria import POWER_SCALE_W, node_terms
 from walk3d.problem.derivatives import NlpPieces, NodeDerivs, derivative_functions
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
-from walk3d.problem.schedule import loop_check_times, range_rows, schedule
+from walk3d.problem.schedule import (
+    lifting_maps,
+    loop_check_times,
+    node_params,
+    range_rows,
+    schedule,
+)
 from walk3d.problem.settings import ModelSettings, PredictionSettings, ratios_for
 
 N_Y = layout.N_Y
@@ -272,18 +280,61 @@ def model_functions(body: BodyModel, model: ModelSettings) -> dict[str, ca.Funct
     return fns
 
 
-def node_params(settings: PredictionSettings, sch) -> np.ndarray:
-    """``(N_P, n_nodes)``: each node's ``[decay, anchor_x, ω]`` (:data:`N_P`)."""
-    omega = np.full(sch.n, 2 * np.pi / settings.gait.period)
-    return np.stack([sch.decay, sch.anchor_other_x, omega])
+@dataclass(frozen=True)
+class NodeCalls:
+    """The symbols of the lifted NLP and its node rows (:func:`node_calls`)."""
+
+    node0: ca.Function
+    node: ca.Function
+    x: ca.MX
+    ys: ca.MX
+    w0: ca.MX
+    ts: ca.MX
+    gk: ca.MX
+    fk: ca.MX
+    """``g`` and ``f`` of every node, side by side."""
+    hs_map: np.ndarray
+    g_hs: ca.MX
+    """The heel-strike tie ``R·hs − W0``."""
 
 
-def lifting_maps(settings: PredictionSettings, sch) -> np.ndarray:
-    """``(n_nodes, 78, N_X)`` maps from the coefficients to each node's ``Y_k`` (values, rates
-    / ω, accelerations / ω²)."""
-    a0, a1, a2 = layout.coordinate_maps(sch.times, settings.gait.period)
-    omega = 2 * np.pi / settings.gait.period
-    return np.concatenate([a0, a1 / omega, a2 / omega**2], axis=1)
+def node_calls(
+    body: BodyModel,
+    settings: PredictionSettings,
+    n: int,
+    params,
+    dynamics: bool = True,
+    balance: bool = True,
+    functions: dict[str, ca.Function] | None = None,
+) -> NodeCalls:
+    """The variables ``x, Y, W0, T`` of ``n`` nodes and the node functions called on them with
+    ``params`` (3 × n, numbers or functions of the descriptors): node 0 alone, the others
+    through one ``map``. Shared by :func:`build_nlp` and the free NLP (:mod:`.free_nlp`)."""
+    fns = functions or {}
+
+    def node_fn(with_hs: bool) -> ca.Function:
+        fn = fns.get(_node_name(dynamics, balance, with_hs))
+        return fn or node_function(body, settings.model, dynamics, with_hs=with_hs, balance=balance)
+
+    # without dynamics (and without the balance split) the heel-strike rows are zeros anyway: one
+    # node function (and one set of derivatives to build) serves every node
+    node = node_fn(False)
+    node0 = node_fn(True) if per_foot_loads(settings.model, dynamics, balance) else node
+    x = ca.MX.sym("x", layout.N_X)
+    ys = ca.MX.sym("Y", N_Y, n)
+    w0 = ca.MX.sym("W0", 6)
+    ts = ca.MX.sym("T", N_T, n)
+    hw = x[layout.I_HALF_STEP]
+    g0, f0 = node0(ys[:, 0], w0, hw, params[:, 0], ts[:, 0])
+    rest = n - 1
+    threads = settings.solver.threads
+    mapped = node.map(rest, "thread", threads) if threads > 1 else node.map(rest)
+    gr, fr = mapped(ys[:, 1:], ca.repmat(w0, 1, rest), ca.repmat(hw, 1, rest),
+                            params[:, 1:], ts[:, 1:])  # fmt: skip
+    hs_map = ratio_map(ratios_for(settings.model))  # Eqs. 7–8 for the trailing (left) foot
+    g_hs = ca.mtimes(ca.DM(hs_map), g0[G_ROWS["hs_wrench"]]) - w0
+    return NodeCalls(node0, node, x, ys, w0, ts, ca.horzcat(g0, gr), ca.horzcat(f0, fr), hs_map,
+                     g_hs)  # fmt: skip
 
 
 def build_nlp(
@@ -305,35 +356,12 @@ def build_nlp(
     (compiled; :attr:`walk3d.problem.derivatives.NlpPieces.node_derivs`).
     """
     sch = schedule(settings)
-    fns = functions or {}
-
-    def node_fn(with_hs: bool) -> ca.Function:
-        fn = fns.get(_node_name(dynamics, balance, with_hs))
-        return fn or node_function(body, settings.model, dynamics, with_hs=with_hs, balance=balance)
-
-    # without dynamics (and without the balance split) the heel-strike rows are zeros anyway: one
-    # node function (and one set of derivatives to build) serves every node
-    node = node_fn(False)
-    node0 = node_fn(True) if per_foot_loads(settings.model, dynamics, balance) else node
-    n_nodes = sch.n
     lift = lifting_maps(settings, sch)
-    x = ca.MX.sym("x", layout.N_X)
-    ys = ca.MX.sym("Y", N_Y, n_nodes)
-    w0 = ca.MX.sym("W0", 6)
-    ts = ca.MX.sym("T", N_T, n_nodes)
-    hw = x[layout.I_HALF_STEP]
-    lift_mat = ca.sparsify(ca.DM(lift.reshape(-1, layout.N_X)))
-    g_lift = ca.vec(ys) - ca.mtimes(lift_mat, x)
     params = ca.DM(node_params(settings, sch))
-    g0, f0 = node0(ys[:, 0], w0, hw, params[:, 0], ts[:, 0])
-    rest = n_nodes - 1
-    threads = settings.solver.threads
-    mapped = node.map(rest, "thread", threads) if threads > 1 else node.map(rest)
-    gr, fr = mapped(ys[:, 1:], ca.repmat(w0, 1, rest), ca.repmat(hw, 1, rest),
-                            params[:, 1:], ts[:, 1:])  # fmt: skip
-    gk, fk = ca.horzcat(g0, gr), ca.horzcat(f0, fr)
-    hs_map = _hs_map(ratios_for(settings.model))  # calibrated Eqs. 7–8 for the trailing (left) foot
-    g_hs = ca.mtimes(ca.DM(hs_map), g0[G_ROWS["hs_wrench"]]) - w0
+    nc = node_calls(body, settings, sch.n, params, dynamics, balance, functions)
+    x, fk = nc.x, nc.fk
+    lift_mat = ca.sparsify(ca.DM(lift.reshape(-1, layout.N_X)))
+    g_lift = ca.vec(nc.ys) - ca.mtimes(lift_mat, x)
     crit = criterion_row(settings.model)
     if sch.weights is None:  # one weight for every node: the paper's regular grid
         weight = 2.0 * sch.step
@@ -344,7 +372,7 @@ def build_nlp(
     quad = jerk_weights(settings) if dynamics else None
     if quad is not None:
         f = f + ca.dot(ca.DM(quad), x * x)
-    z = ca.vertcat(x, ca.vec(ys), w0, ca.vec(ts))
+    z = ca.vertcat(x, ca.vec(nc.ys), nc.w0, ca.vec(nc.ts))
     range_np = range_rows(body, settings)[0]
     range_mat = ca.sparsify(ca.DM(range_np))
     t_loop = loop_check_times(settings, sch)
@@ -353,30 +381,18 @@ def build_nlp(
         c_map = ca.DM(c_map)
         c_loop = ca.reshape(ca.mtimes(ca.sparsify(c_map), x), layout.N_COORD, t_loop.size)
         anchor = ca.DM(np.full((1, t_loop.size), -settings.gait.stride_length / 2))
-        loop = fns.get("loop") or loop_function(body, settings.model)
-        g_loop = ca.vec(loop.map(t_loop.size)(c_loop, hw, anchor))
+        loop = (functions or {}).get("loop") or loop_function(body, settings.model)
+        g_loop = ca.vec(loop.map(t_loop.size)(c_loop, x[layout.I_HALF_STEP], anchor))
     else:
         g_loop = ca.MX(0, 1)
-    g = ca.vertcat(g_lift, ca.vec(gk), g_hs, ca.mtimes(range_mat, x), g_loop)
+    g = ca.vertcat(g_lift, ca.vec(nc.gk), nc.g_hs, ca.mtimes(range_mat, x), g_loop)
     prob = {"x": z, "f": f, "g": g}
     if settings.solver.derivatives == "structured":
-        lay = layout.NlpLayout(n_nodes, range_np.shape[0], g_loop.numel())
-        pieces = NlpPieces(z=z, f=f, g=g, node0=node0, node=node, params=np.asarray(params),
+        lay = layout.NlpLayout(sch.n, range_np.shape[0], g_loop.numel())
+        pieces = NlpPieces(z=z, f=f, g=g, node0=nc.node0, node=nc.node, params=np.asarray(params),
                            lift=lift, range_mat=range_np, hs_rows=G_ROWS["hs_wrench"],
-                           hs_map=hs_map, weight=weight, crit=crit, layout=lay,
+                           hs_map=nc.hs_map, weight=weight, crit=crit, layout=lay,
                            g_loop=g_loop, x=x, threads=settings.solver.threads,
                            node_derivs=node_derivs, quad=quad)  # fmt: skip
         prob["derivatives"] = derivative_functions(pieces)
     return prob, sch, lift
-
-
-def _hs_map(ratios) -> np.ndarray:
-    """The map from node 0's heel-strike rows to the trailing foot's load W0: identity, or the
-    calibrated ratios of :func:`walk3d.contact.transition.apply_ratios` (linear in the rows)."""
-    if ratios is None:
-        return np.eye(6)
-    cols = []
-    for e in np.eye(6):
-        f, m = apply_ratios(((e[0], e[1], e[2]), (e[3], e[4], e[5])), ratios, "l")
-        cols.append([*f, *m])
-    return np.array(cols, dtype=float).T

@@ -14,7 +14,8 @@ from walk3d.problem import descriptors, layout
 from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.settings import PredictionSettings
 
-__all__ = ["Schedule", "loop_check_times", "nlp_layout", "range_rows", "schedule"]
+__all__ = ["Schedule", "lifting_maps", "loop_check_times", "nlp_layout", "node_params",
+           "range_rows", "schedule"]  # fmt: skip
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -139,3 +140,17 @@ def nlp_layout(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> 
     n_range = range_rows(body, settings)[0].shape[0]
     n_s = descriptors.N_S if settings.gait.free else 0
     return layout.NlpLayout(sch.n, n_range, 6 * loop_check_times(settings, sch).size, n_s)
+
+
+def node_params(settings: PredictionSettings, sch) -> np.ndarray:
+    """``(N_P, n_nodes)``: each node's ``[decay, anchor_x, ω]`` (:data:`layout.N_P`)."""
+    omega = np.full(sch.n, 2 * np.pi / settings.gait.period)
+    return np.stack([sch.decay, sch.anchor_other_x, omega])
+
+
+def lifting_maps(settings: PredictionSettings, sch) -> np.ndarray:
+    """``(n_nodes, 78, N_X)`` maps from the coefficients to each node's ``Y_k`` (values, rates
+    / ω, accelerations / ω²)."""
+    a0, a1, a2 = layout.coordinate_maps(sch.times, settings.gait.period)
+    omega = 2 * np.pi / settings.gait.period
+    return np.concatenate([a0, a1 / omega, a2 / omega**2], axis=1)

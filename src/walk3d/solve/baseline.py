@@ -14,7 +14,7 @@ import numpy as np
 from scipy.optimize import minimize
 
 from walk3d.problem import layout, nlp, similarity
-from walk3d.problem.schedule import loop_check_times, range_rows
+from walk3d.problem.schedule import loop_check_times, node_params, range_rows
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.ipopt import SolveOutcome, build_solver, initial_guess
 
@@ -37,7 +37,7 @@ class _Dense:
         node = nlp.node_function(sv.body, settings.model, dynamics)
         self.n = sv.schedule.n
         self.fn = node.map(self.n)
-        self.params = nlp.node_params(settings, sv.schedule)
+        self.params = node_params(settings, sv.schedule)
         self.crit = nlp.criterion_row(settings.model)
         self.step = sv.schedule.step
         b = sv.bounds if dynamics else sv.bounds_balance

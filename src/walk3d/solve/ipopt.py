@@ -63,6 +63,11 @@ class SolveOutcome:
     (``settings.gait.free``); empty otherwise."""
 
 
+STANDING_W0 = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0)
+"""The trailing foot's load W0 of quiet standing (body weights): the start before it is made
+consistent (:func:`full_stage_start`)."""
+
+
 def initial_guess(solver: Solver, seed: int, attempt: int = 0) -> np.ndarray:
     """Upright standing plus uniform noise: the NLP start vector ``z`` for ``seed``.
 
@@ -78,13 +83,13 @@ def initial_guess(solver: Solver, seed: int, attempt: int = 0) -> np.ndarray:
     )
     x0[layout.fixed_zero_mask()] = 0.0
     x0[layout.I_HALF_STEP] = 0.08  # m, at the reference stature (solve() solves that problem)
-    return _z_from_x(solver, x0, np.array([0.0, 1.0, 0.0, 0.0, 0.0, 0.0]))
+    return _z_from_x(solver, x0)
 
 
-def _z_from_x(solver: Solver, x: np.ndarray, w0: np.ndarray) -> np.ndarray:
+def _z_from_x(solver: Solver, x: np.ndarray) -> np.ndarray:
     lay = solver.layout
     z = np.zeros(lay.n_z)
-    z[lay.z("x")], z[lay.z("w0")] = x, w0
+    z[lay.z("x")], z[lay.z("w0")] = x, STANDING_W0
     z[lay.z("y")] = np.einsum("kij,j->ki", solver.lift, x).ravel()
     z[lay.z("s")] = [solver.settings.gait.period, solver.settings.gait.double_support][: lay.n_s]
     return np.clip(z, solver.bounds_balance.lbz, solver.bounds_balance.ubz)
@@ -103,7 +108,7 @@ def full_stage_start(solver: Solver, z: np.ndarray) -> np.ndarray:
     z = z.copy()
     lay, rows = solver.layout, layout.G_ROWS
     w0, t = lay.z("w0"), lay.z("t")
-    z[w0] = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+    z[w0] = STANDING_W0
     z[t] = 0.0
 
     def node_rows(z: np.ndarray) -> np.ndarray:
@@ -146,6 +151,22 @@ def _run(
         "objective": float(sol["f"]),
     }
     return zz, info
+
+
+def _listener(on_stage: Callable[[str], None] | None, stage: Stage) -> Listener | None:
+    """The per-iteration progress message of ``stage``, or None without ``on_stage``."""
+    if on_stage is None:
+        return None
+    return lambda it, f, viol: on_stage(
+        f"{stage.label}: iteration {it}, objective {f:.4g}, infeasibility {viol:.0e}"
+    )
+
+
+def _descriptors(solver: Solver, z: np.ndarray, scale: float) -> dict[str, float]:
+    """The subject's ``{period, double_support}`` in ``z`` (empty without ``s``): the solved
+    problem's times by √scale (:mod:`walk3d.problem.similarity`)."""
+    found = z[solver.layout.z("s")] * np.sqrt(scale)
+    return dict(zip(descriptors.NAMES, map(float, found), strict=False))
 
 
 def _reject_crouch(solver: Solver, z: np.ndarray, record: dict, note) -> None:
@@ -234,25 +255,19 @@ def _free_stage(
     note = on_stage or (lambda _msg: None)
     t0 = time.perf_counter()
     note(stage.title)
-    w0 = np.array([0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
-    z0 = full_stage_start(solver, _z_from_x(solver, np.asarray(x_ref, dtype=float), w0))
-    listener = None
-    if on_stage is not None:
-        listener = lambda it, f, viol: on_stage(  # noqa: E731
-            f"{stage.label}: iteration {it}, objective {f:.4g}, infeasibility {viol:.0e}"
-        )
-    z, record = _run(solver.stage(stage), solver, z0, stage.name, stage.problem, listener)
+    z0 = full_stage_start(solver, _z_from_x(solver, np.asarray(x_ref, dtype=float)))
+    z, record = _run(solver.stage(stage), solver, z0, stage.name, stage.problem,
+                     _listener(on_stage, stage))  # fmt: skip
     record["attempt"] = 0
     if record["status"] in SUCCESS:
         _reject_crouch(solver, z, record, note)
-    found = z[solver.layout.z("s")] * np.sqrt(scale)  # the subject's time scale
     return SolveOutcome(
         x=similarity.subject_x(z[: layout.N_X], scale), z=z,
         converged=record["status"] in SUCCESS, status=record["status"],
         iterations=record["iterations"], wall_time_s=time.perf_counter() - t0,
         stages=[record], max_constraint_violation=record["max_constraint_violation"],
         compiled_derivatives=sorted(solver.compiled),
-        descriptors=dict(zip(descriptors.NAMES, map(float, found), strict=True)),
+        descriptors=_descriptors(solver, z, scale),
     )  # fmt: skip
 
 
@@ -311,11 +326,7 @@ def solve_stages(
         fn = solver.stage(stage)
         if stage.on_success != END:
             solver.prepare(stage.on_success)  # built while this stage solves
-        listener = None
-        if on_stage is not None:
-            listener = lambda it, f, viol: on_stage(  # noqa: E731
-                f"{stage.label}: iteration {it}, objective {f:.4g}, infeasibility {viol:.0e}"
-            )
+        listener = _listener(on_stage, stage)
         stop = (lambda it, _f, viol: stage.stops(it, viol)) if stage.checks else None
         ends["previous"], record = _run(fn, solver, z0, stage.name, stage.problem, listener, stop)
         again = stage.on_failure != END or attempt < ref.solver.restarts
@@ -325,7 +336,6 @@ def solve_stages(
 
     result = run_plan(plan, ref.solver.restarts, run_stage, note)
     last = result.records[-1]
-    found = ends["previous"][solver.layout.z("s")] * np.sqrt(scale)  # the subject's time scale
     return SolveOutcome(
         x=similarity.subject_x(ends["previous"][: layout.N_X], scale),
         z=ends["previous"],
@@ -338,5 +348,5 @@ def solve_stages(
         attempts=result.attempts,
         max_constraint_violation=last["max_constraint_violation"],
         compiled_derivatives=sorted(solver.compiled),
-        descriptors=dict(zip(descriptors.NAMES, map(float, found), strict=False)),
+        descriptors=_descriptors(solver, ends["previous"], scale),
     )

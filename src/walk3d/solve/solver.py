@@ -23,7 +23,7 @@ from walk3d.body.model import BodyModel
 from walk3d.problem import derivatives, free_nlp, nlp, similarity
 from walk3d.problem.bounds import Bounds, bounded_rows, bounds
 from walk3d.problem.layout import NlpLayout
-from walk3d.problem.schedule import Schedule, nlp_layout, schedule
+from walk3d.problem.schedule import Schedule, lifting_maps, nlp_layout, schedule
 from walk3d.problem.settings import ModelSettings, PredictionSettings, body_for
 from walk3d.solve import blas, compiled, model_cache
 from walk3d.solve.options import ipopt_options, sqp_options
@@ -252,7 +252,7 @@ def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool 
     body = body_for(settings)
     fns, hit = _model_functions(body, settings.model, use_cache)
     sch = schedule(settings)
-    lift = nlp.lifting_maps(settings, sch)
+    lift = lifting_maps(settings, sch)
     # only IPOPT takes the structured derivatives (_with_derivatives): sqp needs no libraries
     comp = _load_compiled(settings, fns) if use_cache and method == "ipopt" else {}
     return Solver(
