@@ -116,21 +116,29 @@ def _series(theta, c) -> tuple[Any, Any, Any]:
     return v, d1, d2
 
 
+def _lift_one() -> ca.Function:
+    """``Y(x, θ)``: one node's coordinates, rates / ω and accelerations / ω² at phase θ."""
+    x = ca.SX.sym("x", layout.N_X)
+    theta = ca.SX.sym("theta")
+    shift = np.diag(fourier.half_cycle_shift())
+    vals = []
+    for sr, shifted in layout.COORD_SOURCE:
+        c = [x[sr * layout.N_COEF + j] * (shift[j] if shifted else 1.0)
+             for j in range(layout.N_COEF)]  # fmt: skip
+        vals.append(_series(theta, c))
+    out = [v[0] for v in vals] + [v[1] for v in vals] + [v[2] for v in vals]
+    return ca.Function("walk3d_lift_one", [x, theta], [ca.vertcat(*out)])
+
+
 def lift_function(grid: FreeGrid) -> ca.Function:
     """``walk3d_lift(x[N_X], s[2]) -> Y[n · 78]``: each node's coordinates, rates / ω and
-    accelerations / ω² (the lifted ``Y_k`` of :mod:`walk3d.problem.nlp`) at its phase."""
+    accelerations / ω² (the lifted ``Y_k`` of :mod:`walk3d.problem.nlp`) at its phase. One
+    node's expressions are built once and called at every phase (inlined: the same SX)."""
     x = ca.SX.sym("x", layout.N_X)
     s = ca.SX.sym("s", N_S)
-    shift = np.diag(fourier.half_cycle_shift())
-    out = []
-    for theta in grid.phases(s[0], s[1]):
-        vals = []
-        for sr, shifted in layout.COORD_SOURCE:
-            c = [x[sr * layout.N_COEF + j] * (shift[j] if shifted else 1.0)
-                 for j in range(layout.N_COEF)]  # fmt: skip
-            vals.append(_series(theta, c))
-        out += [v[0] for v in vals] + [v[1] for v in vals] + [v[2] for v in vals]
-    return ca.Function("walk3d_lift", [x, s], [ca.vertcat(*out)])
+    one = _lift_one()
+    return ca.Function("walk3d_lift", [x, s],
+                       [ca.vertcat(*(one(x, th) for th in grid.phases(s[0], s[1])))])  # fmt: skip
 
 
 def jerk_function(quad0: np.ndarray | None, period0: float) -> ca.Function:
