@@ -104,10 +104,10 @@ def predict(
 ) -> Prediction:
     """Predict one gait cycle; write the result folder when ``out_dir`` is given.
     ``warm_from``: another prediction's decision vector (the subject's, ``summary.json``'s
-    ``coefficients``) to start from instead of standing (:func:`walk3d.solve.ipopt.solve_warm`;
+    ``coefficients``) to start from instead of standing (:func:`walk3d.solve.starts.solve_warm`;
     the settings must predict a descriptor)."""
     from walk3d.solve import run_solver
-    from walk3d.solve.ipopt import solve_warm
+    from walk3d.solve.starts import solve_warm
 
     if warm_from is None:
         outcome = run_solver(settings, seed, solver, on_stage=on_stage)

@@ -35,6 +35,7 @@ BAD = [
     (["--restarts", "-1"], "restarts"),
     (["--restarts", "11"], "restarts"),
     (["--max-iter", "0"], "max_iter"),
+    (["--start", "nearby"], "start"),
     # an HSL solver whose library cannot be loaded is refused before the solve starts
     (["--linear-solver", "ma57", "--hsl-library", "/nonexistent/libhsl.so"], "HSL solver ma57"),
 ]

@@ -11,13 +11,13 @@ The folder:
   (:func:`walk3d.plots.sweep.sweep_figure`);
 * ``second_pass.json``: the second pass's tries (:func:`_second_pass`).
 
-Order: the speed nearest :data:`PIVOT_SPEED` is solved from standing (the full plan of
-:func:`walk3d.solve.ipopt.solve_descriptors`); then, outwards, each speed starts from its
-solved neighbour's coefficients, period and double support
-(:func:`walk3d.solve.ipopt.solve_warm`). A warm start that does not converge, or does not look
+Order: the speed nearest :data:`PIVOT_SPEED` is solved from the settings' start (the atlas
+by default, :mod:`walk3d.solve.starts`; standing for ``walk3d atlas build``); then, outwards,
+each speed starts from its solved neighbour's coefficients, period and double support
+(:func:`walk3d.solve.starts.solve_warm`). A warm start that does not converge, or does not look
 like walking, goes through the speed halfway first (:data:`CONTINUATION_DEPTH` times at most),
-and then from standing. A second pass starts every speed once more from its other neighbour
-and keeps the better of the two optima (:func:`_second_pass`).
+and then from the settings' start. A second pass starts every speed once more from its other
+neighbour and keeps the better of the two optima (:func:`_second_pass`).
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ from walk3d.problem.settings import PredictionSettings
 __all__ = ["COLUMNS", "SweepMismatch", "SweepReport", "parse_speeds", "run_sweep", "sweep_order"]
 
 PIVOT_SPEED = 1.3
-"""Speed (m/s) solved first, from standing: the middle of adults' walking speeds."""
+"""Speed (m/s) solved first, from the settings' start: the middle of adults' walking speeds."""
 CONTINUATION_DEPTH = 2
 """Halvings of the speed step a warm start may take before the speed is solved from standing
 (from 1.1 to 1.0 m/s the warm start stopped at its iteration limit; through 1.05 it walked in
@@ -294,7 +294,7 @@ def run_sweep(
         if nb is not None and summaries[nb]["converged"]:
             pred = _warm(settings, summaries[nb], v, seed, solver, note, CONTINUATION_DEPTH)
             if pred is None:
-                note("the warm start did not walk: solving from standing")
+                note("the warm start did not walk: solving from the settings' start")
         if pred is None:
             pred = predict(_at_speed(settings, v, None), seed, solver, on_stage=note)
         write_result(pred, folder)

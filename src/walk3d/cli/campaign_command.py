@@ -26,6 +26,7 @@ from walk3d.cli.common import (
     Sex,
     SolverName,
     Speed,
+    Start,
     app,
     check_output_folder,
     console,
@@ -74,6 +75,7 @@ def campaign(
             "least 30 starts are to run and a C compiler is found.",
         ),
     ] = None,
+    start: Start = "atlas",
     perturbation: Perturbation = 0.05,
     restarts: Restarts = 1,
     linear_solver: LinearSolver = "mumps",
@@ -105,7 +107,7 @@ def campaign(
         case["criterion"], solver, seed,
         **gait_fields(case["speed"], case["period"], case["double_support"], case["height"]),
         mass=case["mass"], height=case["height"], sex=case["sex"], nodes=nodes, max_iter=max_iter,
-        perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
+        start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library, **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign

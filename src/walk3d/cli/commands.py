@@ -30,6 +30,7 @@ from walk3d.cli.common import (
     Sex,
     SolverName,
     Speed,
+    Start,
     TrialGrf,
     app,
     check_output_folder,
@@ -38,6 +39,7 @@ from walk3d.cli.common import (
     gait_fields,
     paper_case,
     settings_from_options,
+    start_text,
 )
 from walk3d.problem.terms import DEFAULT_PRESET
 
@@ -159,6 +161,7 @@ def predict(
     from_trial: FromTrial = None,
     grf: TrialGrf = None,
     calibration: CalibrationFile = None,
+    start: Start = "atlas",
     perturbation: Perturbation = 0.05,
     restarts: Restarts = 1,
     max_iter: MaxIter = 800,
@@ -187,7 +190,7 @@ def predict(
     settings = settings_from_options(
         criterion, solver, seed, **gait_fields(speed, period, double_support, height),
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads, max_iter=max_iter,
-        perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
+        start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library,
         **_calibration_fields(calibration),
     )  # fmt: skip
@@ -209,6 +212,7 @@ def predict(
     after = f", {tries} standing starts (--restarts)" if tries > 1 else ""
     t.add_row("converged", f"{verdict} ({s['status']}, {s['iterations']} iterations{after})")
     t.add_row("wall time", f"{s['wall_time_s']:.1f} s")
+    t.add_row("start", start_text(s))
     t.add_row("descriptors", descriptor_text(s["descriptors"]))
     if solver == "ipopt":
         comp = s.get("compiled_derivatives") or []

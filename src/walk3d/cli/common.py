@@ -98,10 +98,20 @@ Perturbation = Annotated[
     float,
     typer.Option(
         "--perturbation",
-        help="Amplitude of the uniform random numbers added to the standing start (Fourier "
-        "coefficients of sin(angle/2)). The default keeps the default prediction on the best "
-        "walking optimum; 0.1 sends more of a campaign's starts to walking optima "
-        "(docs/solver.md).",
+        help="Amplitude of the uniform random numbers added to the start (Fourier "
+        "coefficients of sin(angle/2); an atlas start adds none for seed 0). From standing, "
+        "the default keeps the default prediction on the best walking optimum; 0.1 sends more "
+        "of a campaign's starts to walking optima (docs/solver.md).",
+        rich_help_panel=SOLVER,
+    ),
+]
+Start = Annotated[
+    str,
+    typer.Option(
+        "--start",
+        help="atlas: start from walk3d's own solved neighbour and solve the full problem alone "
+        "(seconds; standing when the atlas has no entry or it fails), or standing: the paper's "
+        "upright start plus noise, through the posture and balance stages.",
         rich_help_panel=SOLVER,
     ),
 ]
@@ -276,3 +286,15 @@ def settings_from_options(criterion: str, solver: str, seed: int, **fields):
         if problem:
             fail(problem)
     return settings
+
+
+def start_text(summary: dict) -> str:
+    """Where a prediction started, for the printed tables."""
+    start = summary.get("start", "standing")
+    first = (summary.get("stages") or [{}])[0]
+    if start == "atlas":
+        speeds = ", ".join(f"{v:.2f}" for v in first.get("atlas_speeds", []))
+        return f"atlas (walk3d's solutions at {speeds} m/s, reference subject)"
+    if first.get("start") == "atlas":
+        return "standing (after the atlas start did not converge)"
+    return start

@@ -203,10 +203,14 @@ class SolverSettings(_Group):
     hsl_library: str | None = None
     """Path of the HSL library (``libhsl.so`` or ``libcoinhsl.so``); None: IPOPT's default
     name on the library path."""
+    start: Literal["atlas", "standing"] = "atlas"
+    """Where the solve starts: ``atlas``, walk3d's own solved neighbour, then the full problem
+    alone (:mod:`walk3d.solve.starts`; standing when the atlas has no entry or it fails), or
+    ``standing``, the paper's method: upright standing plus noise, through the stages."""
     perturbation: float = 0.05
-    """Amplitude of the uniform noise on the standing start's free coefficients (the paper
-    does not give it). 0.1 led more starts to walking optima, but not the default seed's
-    (docs/solver.md)."""
+    """Amplitude of the uniform noise on the start's free coefficients (the paper does not give
+    it; an atlas start adds none for seed 0). 0.1 led more standing starts to walking optima,
+    but not the default seed's (docs/solver.md)."""
     restarts: int = 1
     """How often a start that did not converge is tried again from a new standing start (the
     seed's next noise stream). 0: one try, as in the paper."""

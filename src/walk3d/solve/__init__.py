@@ -8,7 +8,7 @@ from walk3d.problem.settings import PredictionSettings
 
 SOLVERS = ("ipopt", "sqp")
 
-SOLVE_REVISION = 13
+SOLVE_REVISION = 14
 """Increased whenever a change makes a start of the same settings and seed run other stages or
 solve another problem; recorded in each summary.json. A campaign folder records it and refuses
 to resume under another revision, so that its starts stay comparable (the history of the
@@ -24,6 +24,6 @@ def run_solver(
     """Solve with the named solver; returns a :class:`walk3d.solve.ipopt.SolveOutcome`."""
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
-    from walk3d.solve import ipopt
+    from walk3d.solve import starts
 
-    return ipopt.solve(settings, seed, method=solver, on_stage=on_stage)
+    return starts.solve_start(settings, seed, method=solver, on_stage=on_stage)

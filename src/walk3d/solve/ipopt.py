@@ -29,8 +29,8 @@ from walk3d.solve.progress import (
 from walk3d.solve.solver import Solver, build_solver
 
 __all__ = ["IPOPT_SUCCESS", "SolveOutcome", "Solver", "build_solver", "descriptor_stage",
-           "full_stage_start", "initial_guess", "solve", "solve_descriptors",
-           "solve_warm"]  # fmt: skip
+           "full_stage_start", "initial_guess", "merged", "solve", "solve_descriptors",
+           "warm_stage"]  # fmt: skip
 
 IPOPT_SUCCESS = SUCCESS
 """Return statuses counted as converged (:data:`walk3d.solve.plan.SUCCESS`)."""
@@ -221,41 +221,34 @@ def solve_descriptors(
     solver.prepare(stage)  # built while the given problem solves
     first = solve_stages(fixed, seed, method, on_stage)
     if first.converged:
-        free = _free_stage(solver, stage, first.z[: layout.N_X], scale, on_stage)
+        free = warm_stage(solver, stage, first.z[: layout.N_X], scale, on_stage)
         if free.converged:
-            return _merged(first, free, method)
+            return merged(first, free, method)
     if on_stage:
         on_stage("predicting the period and double support from standing")
-    return _merged(first, solve_stages(settings, seed, method, on_stage, free_plan=True), method)
+    return merged(first, solve_stages(settings, seed, method, on_stage, free_plan=True), method)
 
 
-def solve_warm(
-    settings: PredictionSettings,
+def warm_stage(
+    solver: Solver,
+    stage: Stage,
     x_ref: np.ndarray,
-    method: str = "ipopt",
+    scale: float,
     on_stage: Callable[[str], None] | None = None,
+    s0: tuple[float, ...] | None = None,
 ) -> SolveOutcome:
-    """Only :func:`descriptor_stage`, started from another prediction's decision vector
-    ``x_ref`` (the reference subject's units, ``SolveOutcome.z[:N_X]``) at the first guess of
-    ``settings`` (which must predict a descriptor): a neighbour's solution in ``walk3d sweep``."""
-    if not settings.gait.free:
-        raise ValueError("a warm start needs a predicted period or double support")
-    with interruptible():
-        ref, scale = similarity.reference_problem(settings)
-        solver = build_solver(ref, method)
-        outcome = _free_stage(solver, descriptor_stage(ref), x_ref, scale, on_stage)
-        outcome.stages[-1]["start"] = "warm"
-        return outcome
-
-
-def _free_stage(
-    solver: Solver, stage: Stage, x_ref: np.ndarray, scale: float, on_stage=None
-) -> SolveOutcome:
-    """Run ``stage`` (the descriptors free) from ``x_ref`` at the solver's first guess of s."""
+    """Run the full-NLP ``stage`` (``problem`` full or free) from the decision vector ``x_ref``
+    (reference subject's units) with the descriptors ``s0`` (the solver's first guess when
+    None; ignored when every descriptor is given)."""
     note = on_stage or (lambda _msg: None)
     t0 = time.perf_counter()
     note(stage.title)
-    z0 = full_stage_start(solver, _z_from_x(solver, np.asarray(x_ref, dtype=float)))
+    z0 = _z_from_x(solver, np.asarray(x_ref, dtype=float))
+    lay = solver.layout
+    if s0 is not None and lay.n_s:
+        b = solver.nlp_bounds(stage.problem)
+        z0[lay.z("s")] = np.clip(s0[: lay.n_s], b.lbz[lay.z("s")], b.ubz[lay.z("s")])
+    z0 = full_stage_start(solver, z0)
     z, record = _run(solver.stage(stage), solver, z0, stage.name, stage.problem,
                      _listener(on_stage, stage))  # fmt: skip
     record["attempt"] = 0
@@ -271,7 +264,7 @@ def _free_stage(
     )  # fmt: skip
 
 
-def _merged(first: SolveOutcome, free: SolveOutcome, method: str) -> SolveOutcome:
+def merged(first: SolveOutcome, free: SolveOutcome, method: str) -> SolveOutcome:
     """The outcome of ``first``'s stages followed by ``free``'s."""
     for record in free.stages:
         record["attempt"] = record.get("attempt", 0) + first.attempts

@@ -1,0 +1,139 @@
+"""``walk3d atlas build``: the atlas files of :mod:`walk3d.solve.atlas`, made by ``walk3d sweep``.
+
+For a sex and a criterion preset, the reference subject (68.8 kg, 1.77 m) is swept over speed
+with the period and double support predicted, from standing at 1.3 m/s and outwards from
+neighbours (:mod:`walk3d.campaign.sweep`); every speed that converged and looks like walking
+becomes an entry. Only walk3d's own predictions go in, never measured data.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+import casadi as ca
+import numpy as np
+
+from walk3d import __version__
+from walk3d.io._atomic import atomic_write_text
+from walk3d.problem import descriptors, similarity, terms
+from walk3d.problem.settings import PredictionSettings
+from walk3d.solve import SOLVE_REVISION
+from walk3d.solve.atlas import ATLAS_DIR, FORMAT, atlas_path, settings_key
+
+__all__ = ["ATLAS_SPEEDS", "atlas_settings", "build_atlas", "fingerprint", "write_atlas"]
+
+ATLAS_SPEEDS = "0.6:2.0:0.1"
+"""Reference-subject speeds, m/s: subjects of 1.5-2.0 m walking 0.65-1.9 m/s map inside
+(V / √(h / 1.77 m))."""
+
+
+def atlas_settings(sex: str, criterion: str, nodes: int = 20) -> PredictionSettings:
+    """The reference subject's settings the atlas of ``sex`` and ``criterion`` solves: the
+    descriptors predicted, started from standing (an atlas is not built from an atlas)."""
+    t, td = descriptors.first_guess(1.3, similarity.REFERENCE_HEIGHT_M)
+    return PredictionSettings(
+        mass=similarity.REFERENCE_MASS_KG, height=similarity.REFERENCE_HEIGHT_M, sex=sex,
+        criterion=criterion, speed=1.3, period=t, double_support=td, free=descriptors.NAMES,
+        nodes=nodes, start="standing",
+    )  # fmt: skip
+
+
+def fingerprint(settings: PredictionSettings, entry: dict) -> dict:
+    """The given-descriptor NLP's objective and constraint norm at ``entry``'s start (its
+    coefficients at its speed, period and double support; W0 and slacks made consistent by
+    :func:`walk3d.solve.ipopt.full_stage_start`). Any change of the model, the criterion or
+    the rows changes them."""
+    from walk3d.solve.ipopt import _z_from_x, build_solver, full_stage_start
+    from walk3d.solve.solver import forget_solvers
+
+    given = settings.replace(speed=entry["speed"], period=entry["period"],
+                             double_support=entry["double_support"], free=())  # fmt: skip
+    solver = build_solver(given)
+    z = full_stage_start(solver, _z_from_x(solver, np.asarray(entry["x"], dtype=float)))
+    prob = solver._problem("full")
+    f, g = ca.Function("walk3d_fingerprint", [prob["x"]], [prob["f"], prob["g"]])(z)
+    forget_solvers()
+    return {"speed": entry["speed"], "objective": float(f),
+            "constraint_norm": float(np.linalg.norm(np.array(g)))}  # fmt: skip
+
+
+def _entries(rows: list[dict], summaries: list[dict]) -> list[dict]:
+    out = []
+    for row, summary in zip(rows, summaries, strict=True):
+        if not (summary["converged"] and summary["gait_checks"]["looks_like_walking"]):
+            continue
+        d = summary["descriptors"]
+        out.append({"speed": d["speed"], "period": d["period"],
+                    "double_support": d["double_support"],
+                    "criterion_per_metre": row["criterion_per_metre"],
+                    "iterations": summary["iterations"],
+                    "x": [float(f"{v:.12g}") for v in summary["coefficients"]["x"]]})  # fmt: skip
+    return out
+
+
+def build_atlas(
+    sex: str,
+    criterion: str,
+    work_dir: str | Path,
+    speeds: str = ATLAS_SPEEDS,
+    out_dir: str | Path | None = None,
+    seed: int = 0,
+    on_progress: Callable[[str, int, int], None] | None = None,
+) -> tuple[Path, int, int]:
+    """Sweep (or resume the sweep in ``work_dir``) and write the atlas file of ``sex`` and the
+    preset ``criterion`` to ``out_dir`` (the package's by default). Returns the file, the
+    entries written and the speeds swept.
+
+    Raises:
+        ValueError: ``criterion`` is not a named preset, or no speed walked.
+    """
+    from walk3d.campaign.sweep import parse_speeds, run_sweep
+
+    preset = terms.preset_name(criterion)
+    if preset is None:
+        raise ValueError(f"--criterion {criterion}: the atlas holds named presets only "
+                         f"({', '.join(terms.PRESETS)})")  # fmt: skip
+    grid = parse_speeds(speeds)
+    work = Path(work_dir) / f"{sex}-{preset}"
+    run_sweep(atlas_settings(sex, preset), grid, work, seed, on_progress=on_progress)
+    path, n = write_atlas(sex, preset, work, grid, out_dir, seed)
+    return path, n, len(grid)
+
+
+def write_atlas(
+    sex: str,
+    preset: str,
+    work: Path,
+    grid: np.ndarray,
+    out_dir: str | Path | None = None,
+    seed: int = 0,
+) -> tuple[Path, int]:
+    """Write the atlas file of ``sex`` and ``preset`` from the sweep folder ``work`` (speeds
+    ``grid``); returns the file and its number of entries."""
+    from walk3d.campaign.sweep import speed_folder, table_row
+    from walk3d.results.prediction import load_result
+
+    settings = atlas_settings(sex, preset)
+    summaries = [load_result(speed_folder(work, float(v))).summary for v in grid]
+    entries = _entries([table_row(s, preset) for s in summaries], summaries)
+    if not entries:
+        raise ValueError(f"no speed of {work} walked: no atlas written")
+    middle = min(entries, key=lambda e: abs(e["speed"] - 1.3))
+    data = {
+        "format": FORMAT, "sex": sex, "preset": preset, "solve_revision": SOLVE_REVISION,
+        "walk3d_version": __version__, "casadi_version": ca.__version__,
+        "built": dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"), "seed": seed,
+        "reference": {"mass_kg": similarity.REFERENCE_MASS_KG,
+                      "height_m": similarity.REFERENCE_HEIGHT_M},
+        "settings": settings_key(settings), "fingerprint": fingerprint(settings, middle),
+        "note": "walk3d's own predictions (free period and double support) of the reference "
+                "subject; x: walk3d.problem.layout",
+        "entries": entries,
+    }  # fmt: skip
+    path = atlas_path(sex, preset, Path(out_dir) if out_dir else ATLAS_DIR)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(path, json.dumps(data, indent=1) + "\n")
+    return path, len(entries)

@@ -1,0 +1,90 @@
+"""``walk3d atlas``: build and list the atlas of starts (:mod:`walk3d.solve.atlas`)."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import typer
+
+from walk3d.cli.common import EXIT_WRITE, app, console, fail
+from walk3d.problem.terms import DEFAULT_PRESET
+
+atlas_app = typer.Typer(no_args_is_help=True, help="The atlas of walk3d's own solutions that "
+                        "predictions start from (docs/starts.md).")  # fmt: skip
+app.add_typer(atlas_app, name="atlas")
+
+
+@atlas_app.command("build")
+def build(
+    work: Annotated[str, typer.Option("--work", help="Folder of the sweeps (created or resumed).")],
+    sex: Annotated[str, typer.Option("--sex", help="male, female or both.")] = "both",
+    criterion: Annotated[
+        str, typer.Option("--criterion", help="Named presets, comma-separated.")
+    ] = DEFAULT_PRESET,
+    speeds: Annotated[
+        str, typer.Option("--speeds", help="Reference-subject speeds, start:stop:step, m/s.")
+    ] = "0.6:2.0:0.1",
+    out: Annotated[
+        str | None,
+        typer.Option("--out", help="Atlas folder (default: the package's)."),
+    ] = None,
+    seed: Annotated[int, typer.Option("--seed", help="Random start of the first speed.")] = 0,
+) -> None:
+    """Sweep the reference subject (68.8 kg, 1.77 m) over speed with T and Td predicted, for
+    each sex and preset, and write one atlas file each from the speeds that walk. Rerunning
+    resumes the sweeps. Exit code 0 when every file was written, 2 for bad input, 3 if a file
+    could not be written."""
+    from walk3d.campaign.atlas import build_atlas
+    from walk3d.campaign.sweep import SweepMismatch, parse_speeds
+    from walk3d.problem import terms
+
+    sexes = ("male", "female") if sex == "both" else (sex,)
+    presets = tuple(p.strip() for p in criterion.split(",") if p.strip())
+    if any(x not in ("male", "female") for x in sexes):
+        fail(f"--sex {sex}: expected male, female or both")
+    if not presets or any(terms.preset_name(p) is None for p in presets):
+        fail(f"--criterion {criterion}: expected named presets ({', '.join(terms.PRESETS)})")
+    try:
+        parse_speeds(speeds)
+    except ValueError as exc:
+        fail(str(exc))
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
+                  console=console, transient=True) as bar:  # fmt: skip
+        for sx in sexes:
+            for preset in presets:
+                task = bar.add_task(f"atlas {sx} {preset}", total=None)
+
+                def progress(msg: str, done: int, total: int, task=task, sx=sx, p=preset) -> None:
+                    bar.update(task, completed=done, total=total,
+                               description=f"atlas {sx} {p}: {msg}"[:80])  # fmt: skip
+
+                try:
+                    path, n, of = build_atlas(sx, preset, work, speeds, out, seed, progress)
+                except (ValueError, SweepMismatch) as exc:
+                    fail(str(exc))
+                except OSError as exc:
+                    fail(f"could not write the atlas: {exc}", code=EXIT_WRITE)
+                console.print(f"{path}: {n} of {of} speeds walk", markup=False)
+
+
+@atlas_app.command("show")
+def show() -> None:
+    """List the package's atlas files: sex, preset, speeds, solve revision and whether this
+    walk3d can use them."""
+    from rich.table import Table
+
+    from walk3d.solve import SOLVE_REVISION
+    from walk3d.solve.atlas import ATLAS_DIR, load_atlas
+
+    t = Table(title=f"walk3d atlas ({ATLAS_DIR})")
+    for col in ("sex", "preset", "speeds m/s", "entries", "revision", "usable"):
+        t.add_column(col)
+    for path in sorted(ATLAS_DIR.glob("*.json")):
+        sex, preset = path.stem.split("-", 1)
+        a = load_atlas(sex, preset)
+        ok = a.solve_revision == SOLVE_REVISION
+        t.add_row(sex, preset, f"{a.speeds[0]:.2f}-{a.speeds[-1]:.2f}", str(len(a.speeds)),
+                  str(a.solve_revision), "yes" if ok else "no: rebuild")  # fmt: skip
+    console.print(t)

@@ -1,0 +1,193 @@
+"""The atlas: walk3d's own converged predictions, used as starts near a walking optimum.
+
+One file per sex and criterion preset in ``atlas_data/`` holds, for the reference subject of
+:mod:`walk3d.problem.similarity` (68.8 kg, 1.77 m), the optimum of the free-descriptor problem
+(period and double support predicted) at each speed of a sweep: its decision vector, T and Td.
+Any mass and stature map onto it through dynamic similarity, so one file serves every subject
+of that sex and criterion. ``walk3d atlas build`` makes the files (:mod:`walk3d.campaign.atlas`);
+they hold no measured data.
+
+A start for speed V (the reference subject's) blends the two entries that bracket V linearly
+(the coefficients are phase-based, so a blend of two walking cycles is a walking cycle), or
+takes the nearest entry outside the atlas's speeds (:func:`candidates` lists the tries). A
+criterion without its own file starts from the default preset's. An atlas made by another solve
+revision, or for other model or grid settings, is never used: no start, and the reason.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+
+from walk3d.problem import layout, terms
+from walk3d.problem.settings import PredictionSettings
+
+__all__ = ["ATLAS_DIR", "FORMAT", "Atlas", "AtlasStart", "atlas_path", "candidates",
+           "load_atlas", "settings_key", "start_for"]  # fmt: skip
+
+ATLAS_DIR = Path(__file__).resolve().parent / "atlas_data"
+"""Where the package's atlas files are (package data)."""
+FORMAT = 1
+"""Version of the file layout below."""
+MAX_EXTRAPOLATION = 0.35
+"""Largest distance (m/s, reference subject) from the atlas's speeds at which its nearest entry
+is still used as a start; farther, the start is standing."""
+
+
+@dataclass(frozen=True)
+class Atlas:
+    """One atlas file: entries sorted by speed, in the reference subject's units."""
+
+    sex: str
+    preset: str
+    solve_revision: int
+    settings: dict
+    """:func:`settings_key` of the problem the entries solve."""
+    speeds: np.ndarray
+    """m/s."""
+    periods: np.ndarray
+    double_supports: np.ndarray
+    """s."""
+    x: np.ndarray
+    """(n, N_X) decision vectors (:mod:`walk3d.problem.layout`)."""
+    fingerprint: dict
+    """The given-descriptor NLP's objective and constraint norm at one entry's start
+    (:func:`walk3d.campaign.atlas.fingerprint`): a test compares them with the current
+    model's, so an atlas that no longer matches the model is caught."""
+    path: Path
+
+
+@dataclass(frozen=True)
+class AtlasStart:
+    """A start from the atlas: decision vector and descriptors (reference subject's units)."""
+
+    x: np.ndarray
+    period: float
+    double_support: float
+    speeds: tuple[float, ...]
+    """The entries used (one or two), m/s."""
+    weights: tuple[float, ...]
+    preset: str
+    """The criterion preset of the atlas file."""
+
+    def describe(self) -> dict:
+        return {"atlas_speeds": list(self.speeds), "atlas_weights": list(self.weights),
+                "atlas_preset": self.preset}  # fmt: skip
+
+
+def settings_key(settings: PredictionSettings) -> dict:
+    """What an atlas entry depends on besides speed: the model settings (criterion included),
+    the sex and the time grid."""
+    model = settings.model.model_dump(mode="json")
+    model["criterion"] = terms.preset_name(settings.model.criterion) or model["criterion"]
+    return {"sex": settings.gait.sex, "model": model, "nodes": settings.solver.nodes,
+            "heel_strike_nodes": settings.solver.heel_strike_nodes}  # fmt: skip
+
+
+def atlas_path(sex: str, preset: str, root: Path | None = None) -> Path:
+    return (root or ATLAS_DIR) / f"{sex}-{preset}.json"
+
+
+@cache
+def _read(path: Path, mtime_ns: int) -> Atlas:
+    data = json.loads(path.read_text())
+    if data.get("format") != FORMAT:
+        raise ValueError(f"{path}: atlas format {data.get('format')}, expected {FORMAT}")
+    entries = sorted(data["entries"], key=lambda e: e["speed"])
+    x = np.array([e["x"] for e in entries], dtype=float)
+    if x.ndim != 2 or x.shape[1] != layout.N_X:
+        raise ValueError(f"{path}: entries must hold {layout.N_X} coefficients")
+    return Atlas(
+        sex=data["sex"], preset=data["preset"], solve_revision=int(data["solve_revision"]),
+        settings=data["settings"], speeds=np.array([e["speed"] for e in entries]),
+        periods=np.array([e["period"] for e in entries]),
+        double_supports=np.array([e["double_support"] for e in entries]), x=x,
+        fingerprint=data.get("fingerprint", {}), path=path,
+    )  # fmt: skip
+
+
+def load_atlas(sex: str, preset: str, root: Path | None = None) -> Atlas | None:
+    """The atlas file for ``sex`` and ``preset``, or None if there is none."""
+    path = atlas_path(sex, preset, root)
+    if not path.is_file():
+        return None
+    return _read(path, path.stat().st_mtime_ns)
+
+
+def _usable(atlas: Atlas, ref: PredictionSettings) -> str | None:
+    """Why ``atlas`` cannot start ``ref`` (None: it can). An atlas of another criterion serves
+    when everything else matches."""
+    from walk3d.solve import SOLVE_REVISION
+
+    if atlas.solve_revision != SOLVE_REVISION:
+        return (f"the atlas {atlas.path.name} was made by solve revision {atlas.solve_revision}, "
+                f"not {SOLVE_REVISION}: rebuild it with `walk3d atlas build`")  # fmt: skip
+    ours = settings_key(ref)
+    ours["model"]["criterion"] = atlas.settings["model"]["criterion"]
+    if atlas.settings != ours:
+        return f"the atlas {atlas.path.name} solves other model or grid settings"
+    return None
+
+
+def _find(ref: PredictionSettings, root: Path | None) -> tuple[Atlas | None, str]:
+    """The atlas of ``ref``'s sex and criterion preset, else that of its sex and the default
+    preset (a start for any criterion: the paper's C_tor from the ``natural`` atlas reached a
+    lower optimum than 40 standing starts, docs/starts.md); or None and why."""
+    preset = terms.preset_name(ref.model.criterion)
+    for name in dict.fromkeys(p for p in (preset, terms.DEFAULT_PRESET) if p):
+        found = load_atlas(ref.gait.sex, name, root=root)
+        if found is not None:
+            return found, ""
+    return None, f"no atlas for {ref.gait.sex}"
+
+
+def start_for(
+    ref: PredictionSettings, root: Path | None = None
+) -> tuple[AtlasStart | None, str | None]:
+    """The first of :func:`candidates` for ``ref``, or None and the reason."""
+    found, why = candidates(ref, root)
+    return (found[0] if found else None), why
+
+
+def candidates(
+    ref: PredictionSettings, root: Path | None = None, tries: int = 3
+) -> tuple[list[AtlasStart], str | None]:
+    """Up to ``tries`` atlas starts for the reference subject's settings ``ref``
+    (:func:`walk3d.problem.similarity.reference_problem`), best first: the blend of the two
+    entries bracketing its speed, then single entries by distance in speed; or none and the
+    reason. Why several: two neighbouring entries can lie on different local optima, and a
+    given period may be reachable from one and not the other (docs/starts.md)."""
+    atlas, why = _find(ref, root)
+    if atlas is None:
+        return [], why
+    why = _usable(atlas, ref)
+    if why is not None:
+        return [], why
+    v, speeds = ref.gait.speed, atlas.speeds
+    near = np.argsort(np.abs(speeds - v), kind="stable")
+    if abs(v - speeds[near[0]]) > MAX_EXTRAPOLATION:
+        return [], f"{v:.2f} m/s is outside the atlas's {speeds[0]:.2f}-{speeds[-1]:.2f}"
+    found: list[list[tuple[int, float]]] = []
+    if speeds[0] < v < speeds[-1]:
+        hi = int(np.searchsorted(speeds, v))
+        w = float((v - speeds[hi - 1]) / (speeds[hi] - speeds[hi - 1]))
+        if 0.0 < w < 1.0:
+            found.append([(hi - 1, 1.0 - w), (hi, w)])
+    found += [[(int(i), 1.0)] for i in near if abs(v - speeds[i]) <= MAX_EXTRAPOLATION]
+    return [_blend(atlas, pairs) for pairs in found[:tries]], None
+
+
+def _blend(atlas: Atlas, pairs: list[tuple[int, float]]) -> AtlasStart:
+    def blend(values: np.ndarray):
+        return sum(wt * values[i] for i, wt in pairs)
+
+    return AtlasStart(
+        x=np.asarray(blend(atlas.x), dtype=float), period=float(blend(atlas.periods)),
+        double_support=float(blend(atlas.double_supports)),
+        speeds=tuple(float(atlas.speeds[i]) for i, _ in pairs),
+        weights=tuple(round(wt, 6) for _, wt in pairs), preset=atlas.preset,
+    )  # fmt: skip

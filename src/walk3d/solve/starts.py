@@ -1,0 +1,131 @@
+"""Where a solve starts: the atlas (walk3d's own solved neighbour), another prediction (a warm
+start), or standing (the paper's method, :func:`walk3d.solve.ipopt.solve`).
+
+From the atlas or a warm start only the last stage runs, the full problem of the settings
+(period and double support free when predicted): the start already walks, so the posture and
+balance stages that lead from standing to walking are skipped. A start from the atlas that does
+not converge, or ends crouched, is followed by the standing plan.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+
+import numpy as np
+
+from walk3d.problem import descriptors, layout, similarity, terms
+from walk3d.problem.settings import PredictionSettings
+from walk3d.solve import atlas
+from walk3d.solve.ipopt import SolveOutcome, build_solver, descriptor_stage, merged, warm_stage
+from walk3d.solve.plan import Stage
+from walk3d.solve.progress import interruptible
+
+__all__ = ["atlas_noise", "solve_from_atlas", "solve_start", "solve_warm"]
+
+
+ATLAS_MAX_ITER = 120
+"""Iteration limit of one start from the atlas: converged ones took 23-67 iterations; one that
+had not converged by 150 still had not by 400 (docs/starts.md), and the next start is cheaper."""
+ATLAS_TRIES = 3
+"""Atlas starts tried before standing (:func:`walk3d.solve.atlas.candidates`)."""
+
+
+def _last_stage(solver, ref: PredictionSettings, origin: str, max_iter: int | None = None) -> Stage:
+    """The full problem's stage (descriptors free when predicted), titled by its ``origin``."""
+    if ref.gait.free:
+        stage = descriptor_stage(ref)
+        what = "predicting the period and double support"
+    else:
+        stage = solver.plan["full"]
+        what = "minimizing"
+    crit = terms.label(ref.model.criterion)
+    return replace(stage, title=f"from {origin}: {what} ({crit})", label=f"{origin} ({crit})",
+                   max_iter=max_iter or stage.max_iter)  # fmt: skip
+
+
+def atlas_noise(seed: int, amplitude: float) -> np.ndarray:
+    """Uniform noise of ``amplitude`` on the free coefficients for ``seed`` ≥ 1; zero for seed
+    0, so that seed 0 is the atlas start itself and a campaign from seed 0 holds
+    ``walk3d predict``'s start."""
+    noise = np.zeros(layout.N_X)
+    if seed == 0 or amplitude == 0.0:
+        return noise
+    rng = np.random.default_rng([seed, 7919])  # not the standing start's stream
+    noise[: layout.I_HALF_STEP] = rng.uniform(-amplitude, amplitude, layout.I_HALF_STEP)
+    noise[layout.fixed_zero_mask()] = 0.0
+    return noise
+
+
+def solve_from_atlas(
+    settings: PredictionSettings,
+    seed: int = 0,
+    method: str = "ipopt",
+    on_stage: Callable[[str], None] | None = None,
+) -> SolveOutcome | None:
+    """The full problem from the atlas's starts for ``settings``
+    (:func:`walk3d.solve.atlas.candidates`, each plus :func:`atlas_noise`) until one converges
+    upright; the outcome of every try, or None (with a message) when the atlas has none."""
+    note = on_stage or (lambda _msg: None)
+    ref, scale = similarity.reference_problem(settings)
+    found, why = atlas.candidates(ref, tries=ATLAS_TRIES)
+    if not found:
+        note(f"starting from standing: {why}")
+        return None
+    solver = build_solver(ref, method)
+    g = ref.gait
+    noise = atlas_noise(seed, ref.solver.perturbation)
+    outcome = None
+    for k, start in enumerate(found):
+        s0 = tuple(getattr(start, n) if n in g.free else getattr(g, n) for n in descriptors.NAMES)
+        stage = _last_stage(solver, ref, "the atlas", min(ATLAS_MAX_ITER, ref.solver.max_iter))
+        if k:
+            note(f"the atlas start did not converge: from its entry at {start.speeds[0]:.2f} m/s")
+        this = warm_stage(solver, stage, start.x + noise, scale, on_stage, s0)
+        this.stages[-1].update(start="atlas", **start.describe())
+        outcome = this if outcome is None else merged(outcome, this, method)
+        if this.converged:
+            break
+    return outcome
+
+
+def solve_start(
+    settings: PredictionSettings,
+    seed: int = 0,
+    method: str = "ipopt",
+    on_stage: Callable[[str], None] | None = None,
+) -> SolveOutcome:
+    """Solve from ``settings.solver.start``: ``atlas`` (then standing if that fails) or
+    ``standing``."""
+    from walk3d.solve import ipopt
+
+    first = None
+    if settings.solver.start == "atlas":
+        with interruptible():
+            first = solve_from_atlas(settings, seed, method, on_stage)
+        if first is not None and first.converged:
+            return first
+        if first is not None and on_stage:
+            on_stage("the start from the atlas did not converge: solving from standing")
+    standing = ipopt.solve(settings, seed, method, on_stage)
+    return standing if first is None else merged(first, standing, method)
+
+
+def solve_warm(
+    settings: PredictionSettings,
+    x_ref: np.ndarray,
+    method: str = "ipopt",
+    on_stage: Callable[[str], None] | None = None,
+    s0: tuple[float, float] | None = None,
+) -> SolveOutcome:
+    """The full problem of ``settings`` from another prediction's decision vector ``x_ref``
+    (the reference subject's units, ``SolveOutcome.z[:N_X]``) and descriptors ``s0`` (the
+    reference subject's; default: the settings' first guess): a neighbour's solution in
+    ``walk3d sweep``."""
+    with interruptible():
+        ref, scale = similarity.reference_problem(settings)
+        solver = build_solver(ref, method)
+        outcome = warm_stage(solver, _last_stage(solver, ref, "a neighbour"), x_ref, scale,
+                             on_stage, s0)  # fmt: skip
+        outcome.stages[-1]["start"] = "warm"
+        return outcome

@@ -1,0 +1,31 @@
+"""walk3d atlas: bad input is one line and exit code 2, before any sweep; show lists the files."""
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+BAD = [
+    (["--sex", "alien"], "--sex alien"),
+    (["--criterion", "tor=1,accel=1"], "named presets"),
+    (["--criterion", ""], "named presets"),
+    (["--speeds", "2:1:0.1"], "empty or reversed"),
+]
+
+
+@pytest.mark.parametrize("args,word", BAD)
+def test_atlas_build_bad_input_exits_2_with_one_line(tmp_path, args, word):
+    cmd = [sys.executable, "-m", "walk3d.cli", "atlas", "build", "--work", str(tmp_path), *args]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and word in lines[0], r.stderr
+    assert not any(tmp_path.iterdir())  # nothing was started
+
+
+def test_atlas_show_lists_the_shipped_files():
+    r = subprocess.run([sys.executable, "-m", "walk3d.cli", "atlas", "show"], capture_output=True,
+                       text=True, timeout=60, env=os.environ | {"COLUMNS": "200"})  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    assert "male" in r.stdout and "natural" in r.stdout and "yes" in r.stdout

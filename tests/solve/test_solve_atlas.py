@@ -1,0 +1,164 @@
+"""The atlas of starts: lookup and blending, refusal of a stale atlas, the shipped files against
+the current model, and the fallback to standing."""
+
+import json
+from dataclasses import replace
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from walk3d.campaign.atlas import atlas_settings, fingerprint
+from walk3d.problem import layout
+from walk3d.problem.settings import PredictionSettings
+from walk3d.solve import SOLVE_REVISION, atlas, starts
+from walk3d.solve.plan import SUCCESS
+
+
+def _write(root, speeds, revision=SOLVE_REVISION, sex="male", preset="natural", settings=None):
+    settings = settings or atlas.settings_key(atlas_settings(sex, preset))
+    entries = [{"speed": v, "period": 1.0 + v, "double_support": 0.1 * v,
+                "x": [float(k) * v for k in range(layout.N_X)]} for v in speeds]  # fmt: skip
+    data = {"format": atlas.FORMAT, "sex": sex, "preset": preset, "solve_revision": revision,
+            "settings": settings, "entries": entries}  # fmt: skip
+    atlas.atlas_path(sex, preset, root).write_text(json.dumps(data))
+
+
+def _ref(speed, **kw):
+    return atlas_settings("male", "natural").replace(speed=speed, **kw)
+
+
+def test_a_start_blends_the_two_bracketing_speeds(tmp_path):
+    _write(tmp_path, [1.0, 1.2, 1.4])
+    start, why = atlas.start_for(_ref(1.25), tmp_path)
+    assert why is None and start.speeds == (1.2, 1.4)
+    assert start.weights == pytest.approx((0.75, 0.25))
+    assert start.period == pytest.approx(1.0 + 1.25)
+    assert start.double_support == pytest.approx(0.125)
+    assert start.x[3] == pytest.approx(3 * 1.25)
+    exact, _ = atlas.start_for(_ref(1.2), tmp_path)
+    assert exact.speeds == (1.2,) and exact.x[3] == pytest.approx(3.6)
+
+
+def test_candidates_are_the_blend_then_single_entries_by_distance(tmp_path):
+    _write(tmp_path, [1.0, 1.2, 1.4, 1.6])
+    found, _ = atlas.candidates(_ref(1.25), tmp_path, tries=4)
+    assert [c.speeds for c in found] == [(1.2, 1.4), (1.2,), (1.4,), (1.0,)]
+    assert [c.speeds for c in atlas.candidates(_ref(1.2), tmp_path)[0]] == [(1.2,), (1.0,), (1.4,)]
+
+
+def test_outside_the_atlas_the_nearest_entry_serves_until_too_far(tmp_path):
+    _write(tmp_path, [1.0, 1.2])
+    near, _ = atlas.start_for(_ref(0.8), tmp_path)
+    assert near.speeds == (1.0,)
+    far, why = atlas.start_for(_ref(1.2 + atlas.MAX_EXTRAPOLATION + 0.05), tmp_path)
+    assert far is None and "outside" in why
+
+
+def test_a_stale_or_foreign_atlas_is_not_used(tmp_path):
+    _write(tmp_path, [1.0, 1.2], revision=SOLVE_REVISION - 1)
+    start, why = atlas.start_for(_ref(1.1), tmp_path)
+    assert start is None and "rebuild" in why
+    other = atlas.settings_key(atlas_settings("male", "natural").replace(nodes=12))
+    _write(tmp_path, [1.0, 1.2], settings=other)
+    start, why = atlas.start_for(_ref(1.1), tmp_path)
+    assert start is None and "other model or grid" in why
+    _write(tmp_path, [1.0, 1.2])  # negative control: the same file, current revision and settings
+    assert atlas.start_for(_ref(1.1), tmp_path)[0] is not None
+    assert atlas.start_for(_ref(1.1, sex="female"), tmp_path)[0] is None  # no file
+    # another criterion starts from the default preset's atlas, not from another model's
+    start, _ = atlas.start_for(_ref(1.1, criterion="tor=1,accel=0.3"), tmp_path)
+    assert start.preset == "natural"
+    assert atlas.start_for(_ref(1.1, criterion="tor", friction=0.6), tmp_path)[0] is None
+
+
+def test_noise_is_off_for_seed_0_and_bounded_otherwise():
+    assert not atlas_noise_any(0)
+    n = starts.atlas_noise(3, 0.02)
+    assert 0 < np.abs(n).max() <= 0.02
+    assert not n[layout.fixed_zero_mask()].any() and n[layout.I_HALF_STEP] == 0.0
+    assert np.array_equal(n, starts.atlas_noise(3, 0.02))
+    assert not np.array_equal(n, starts.atlas_noise(4, 0.02))
+
+
+def atlas_noise_any(seed):
+    return bool(starts.atlas_noise(seed, 0.05).any())
+
+
+@pytest.mark.parametrize("sex", ["male", "female"])
+def test_the_shipped_atlas_matches_the_model_and_solver(sex):
+    """The default preset's atlas exists for both sexes, was made by this solve revision for
+    these settings, and the current NLP gives its recorded objective and constraint norm at its
+    recorded start: a change of the model or the criterion fails here until `walk3d atlas
+    build` is run again."""
+    a = atlas.load_atlas(sex, "natural")
+    assert a is not None, f"no atlas for {sex}: run `walk3d atlas build`"
+    settings = atlas_settings(sex, "natural")
+    assert a.solve_revision == SOLVE_REVISION
+    assert a.settings == atlas.settings_key(settings)
+    assert a.speeds[0] <= 0.8 and a.speeds[-1] >= 1.8 and np.all(np.diff(a.speeds) <= 0.21)
+    fp = a.fingerprint
+    i = int(np.argmin(np.abs(a.speeds - fp["speed"])))
+    entry = {"speed": fp["speed"], "period": float(a.periods[i]),
+             "double_support": float(a.double_supports[i]), "x": a.x[i]}  # fmt: skip
+    now = fingerprint(settings, entry)
+    assert now["objective"] == pytest.approx(fp["objective"], rel=1e-7)
+    assert now["constraint_norm"] == pytest.approx(fp["constraint_norm"], rel=1e-7, abs=1e-9)
+    # negative control: another model (the other sex's segments) gives another fingerprint
+    other = fingerprint(atlas_settings("female" if sex == "male" else "male", "natural"), entry)
+    assert other["objective"] != pytest.approx(fp["objective"], rel=1e-4)
+
+
+def _outcome(converged, stages):
+    return SimpleNamespace(converged=converged, stages=stages, attempts=1, iterations=5,
+                           wall_time_s=1.0, x=np.zeros(layout.N_X), z=np.zeros(3),
+                           status="Solve_Succeeded" if converged else "Maximum_Iterations",
+                           max_constraint_violation=0.0, compiled_derivatives=[],
+                           descriptors={})  # fmt: skip
+
+
+def test_a_failed_atlas_start_falls_back_to_standing(monkeypatch):
+    from walk3d.solve import ipopt
+
+    calls = []
+    monkeypatch.setattr(starts, "solve_from_atlas",
+                        lambda *a, **k: _outcome(False, [{"start": "atlas"}]))  # fmt: skip
+    monkeypatch.setattr(ipopt, "solve", lambda *a, **k: calls.append(1) or _outcome(True, [{}]))
+    out = starts.solve_start(PredictionSettings(), 0, on_stage=lambda m: None)
+    assert calls and out.converged and out.stages[0]["start"] == "atlas" and out.attempts == 2
+    # negative controls: a converged atlas start is kept; --start standing never asks the atlas
+    calls.clear()
+    monkeypatch.setattr(starts, "solve_from_atlas", lambda *a, **k: _outcome(True, [{}]))
+    assert starts.solve_start(PredictionSettings()).iterations == 5 and not calls
+    monkeypatch.setattr(starts, "solve_from_atlas", lambda *a, **k: pytest.fail("asked"))
+    starts.solve_start(PredictionSettings(start="standing"))
+    assert calls
+
+
+def test_a_prediction_from_the_atlas_walks_in_few_iterations():
+    """The default prediction's path: the atlas start, the full problem alone."""
+    from walk3d.predict import predict
+
+    settings = PredictionSettings(
+        mass=62.0,
+        height=1.70,
+        sex="female",
+        speed=1.27,
+        criterion="natural",
+        free=("period", "double_support"),
+    )
+    pred = predict(settings, 0)
+    s = pred.summary
+    assert s["start"] == "atlas" and s["converged"] and s["status"] in SUCCESS
+    assert len(s["stages"]) == 1 and s["iterations"] < 150
+    assert s["gait_checks"]["looks_like_walking"]
+    assert 0.9 < s["descriptors"]["period"] < 1.25
+
+
+def test_stage_titles_say_where_they_start():
+    solver = SimpleNamespace(plan={"full": replace(starts.descriptor_stage(PredictionSettings()),
+                                                   problem="full")})  # fmt: skip
+    given = starts._last_stage(solver, PredictionSettings(), "the atlas")
+    assert given.problem == "full" and given.title.startswith("from the atlas: minimizing")
+    free = starts._last_stage(solver, PredictionSettings(free=("period",)), "a neighbour")
+    assert free.problem == "free" and "period" in free.title
