@@ -23,8 +23,15 @@ balance_split arm_walking_ranges leg_walking_ranges threads loop_checks loop_che
 loop_check_tolerance rollover_s rollover_ankle transition_ratios perturbation restarts
 linear_solver hsl_library max_iter full_max_iter tol""".split()
 """The 37 fields of the flat settings that summary.json files before the groups record."""
-ADDED_SINCE = ["cop_margin", "swing_clearance", "heel_strike_nodes", "reject_crouch", "free"]
-"""Fields added later (issues #23, #24), with defaults, so older files still load."""
+ADDED_SINCE = [
+    "cop_margin",
+    "swing_clearance",
+    "heel_strike_nodes",
+    "reject_crouch",
+    "free",
+    "start",
+]
+"""Fields added later (issues #23, #24, #25), with defaults, so older files still load."""
 
 
 def test_every_setting_belongs_to_exactly_one_group():

@@ -5,14 +5,11 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from walk3d.problem.settings import PredictionSettings
+from walk3d.solve.revision import SOLVE_REVISION
 
 SOLVERS = ("ipopt", "sqp")
 
-SOLVE_REVISION = 14
-"""Increased whenever a change makes a start of the same settings and seed run other stages or
-solve another problem; recorded in each summary.json. A campaign folder records it and refuses
-to resume under another revision, so that its starts stay comparable (the history of the
-revisions is in docs/solver.md)."""
+__all__ = ["SOLVE_REVISION", "SOLVERS", "run_solver"]
 
 
 def run_solver(

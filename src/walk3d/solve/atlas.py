@@ -25,6 +25,7 @@ import numpy as np
 
 from walk3d.problem import layout, terms
 from walk3d.problem.settings import PredictionSettings
+from walk3d.solve.revision import SOLVE_REVISION
 
 __all__ = ["ATLAS_DIR", "FORMAT", "Atlas", "AtlasStart", "atlas_path", "candidates",
            "load_atlas", "settings_key", "start_for"]  # fmt: skip
@@ -121,8 +122,6 @@ def load_atlas(sex: str, preset: str, root: Path | None = None) -> Atlas | None:
 def _usable(atlas: Atlas, ref: PredictionSettings) -> str | None:
     """Why ``atlas`` cannot start ``ref`` (None: it can). An atlas of another criterion serves
     when everything else matches."""
-    from walk3d.solve import SOLVE_REVISION
-
     if atlas.solve_revision != SOLVE_REVISION:
         return (f"the atlas {atlas.path.name} was made by solve revision {atlas.solve_revision}, "
                 f"not {SOLVE_REVISION}: rebuild it with `walk3d atlas build`")  # fmt: skip

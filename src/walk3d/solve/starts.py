@@ -14,9 +14,9 @@ from dataclasses import replace
 
 import numpy as np
 
+import walk3d.solve.atlas as atlas
 from walk3d.problem import descriptors, layout, similarity, terms
 from walk3d.problem.settings import PredictionSettings
-from walk3d.solve import atlas
 from walk3d.solve.ipopt import SolveOutcome, build_solver, descriptor_stage, merged, warm_stage
 from walk3d.solve.plan import Stage
 from walk3d.solve.progress import interruptible
