@@ -60,18 +60,14 @@ def fingerprint(settings: PredictionSettings, entry: dict) -> dict:
             "constraint_norm": float(np.linalg.norm(np.array(g)))}  # fmt: skip
 
 
-def _entries(rows: list[dict], summaries: list[dict]) -> list[dict]:
-    out = []
-    for row, summary in zip(rows, summaries, strict=True):
-        if not (summary["converged"] and summary["gait_checks"]["looks_like_walking"]):
-            continue
-        d = summary["descriptors"]
-        out.append({"speed": d["speed"], "period": d["period"],
-                    "double_support": d["double_support"],
-                    "criterion_per_metre": row["criterion_per_metre"],
-                    "iterations": summary["iterations"],
-                    "x": [float(f"{v:.12g}") for v in summary["coefficients"]["x"]]})  # fmt: skip
-    return out
+def _entries(summaries: list[dict], preset: str) -> list[dict]:
+    from walk3d.campaign.sweep import per_metre, walks
+
+    return [{"speed": s["descriptors"]["speed"], "period": s["descriptors"]["period"],
+             "double_support": s["descriptors"]["double_support"],
+             "criterion_per_metre": per_metre(s, preset), "iterations": s["iterations"],
+             "x": [float(f"{v:.12g}") for v in s["coefficients"]["x"]]}
+            for s in summaries if walks(s)]  # fmt: skip
 
 
 def build_atlas(
@@ -113,12 +109,12 @@ def write_atlas(
 ) -> tuple[Path, int]:
     """Write the atlas file of ``sex`` and ``preset`` from the sweep folder ``work`` (speeds
     ``grid``); returns the file and its number of entries."""
-    from walk3d.campaign.sweep import speed_folder, table_row
+    from walk3d.campaign.sweep import speed_folder
     from walk3d.results.prediction import load_result
 
     settings = atlas_settings(sex, preset)
     summaries = [load_result(speed_folder(work, float(v))).summary for v in grid]
-    entries = _entries([table_row(s, preset) for s in summaries], summaries)
+    entries = _entries(summaries, preset)
     if not entries:
         raise ValueError(f"no speed of {work} walked: no atlas written")
     middle = min(entries, key=lambda e: abs(e["speed"] - 1.3))

@@ -37,7 +37,8 @@ from walk3d.io._atomic import atomic_write_text
 from walk3d.problem import descriptors, terms
 from walk3d.problem.settings import PredictionSettings
 
-__all__ = ["COLUMNS", "SweepMismatch", "SweepReport", "parse_speeds", "run_sweep", "sweep_order"]
+__all__ = ["COLUMNS", "SweepMismatch", "SweepReport", "parse_speeds", "per_metre", "run_sweep",
+           "sweep_order", "walks"]  # fmt: skip
 
 PIVOT_SPEED = 1.3
 """Speed (m/s) solved first, from the settings' start: the middle of adults' walking speeds."""
@@ -135,7 +136,8 @@ def _at_speed(settings: PredictionSettings, speed: float, guess: tuple[float, fl
     return settings.model_copy(update={"gait": gait})
 
 
-def _walks(summary: dict) -> bool:
+def walks(summary: dict) -> bool:
+    """Whether a prediction's summary converged and looks like walking."""
     return bool(summary["converged"] and summary["gait_checks"]["looks_like_walking"])
 
 
@@ -149,7 +151,7 @@ def _warm(settings, prev: dict, v: float, seed: int, solver: str, note, depth: i
     d = prev["descriptors"]
     pred = predict(_at_speed(settings, v, (d["period"], d["double_support"])), seed, solver,
                    on_stage=note, warm_from=np.array(prev["coefficients"]["x"]))  # fmt: skip
-    if _walks(pred.summary):
+    if walks(pred.summary):
         pred.summary["sweep"] = {"from_speed": d["speed"], "via": [], "extra_iterations": 0,
                                  "extra_wall_time_s": 0.0}  # fmt: skip
         return pred
@@ -174,7 +176,7 @@ def _criterion(summary: dict, criterion: str) -> float | None:
     return (summary.get("objective") or {}).get(terms.label(criterion), {}).get("total")
 
 
-def _per_metre(summary: dict, criterion: str) -> float | None:
+def per_metre(summary: dict, criterion: str) -> float | None:
     """The criterion per metre walked (what the solver minimizes), or None."""
     value = _criterion(summary, criterion)
     return None if value is None else value / summary["descriptors"]["stride_length"]
@@ -196,18 +198,18 @@ def _second_pass(settings, speeds, out, summaries, first_from, seed, solver, on_
         others = [nb for nb in (i - 1, i + 1) if 0 <= nb < len(speeds) and nb != first_from[i]]
         for nb in others:
             key = f"{v:.3f}<{float(speeds[nb]):.3f}"
-            if key in done or not _walks(summaries[nb]):
+            if key in done or not walks(summaries[nb]):
                 continue
             if on_progress:
                 on_progress(f"{v:.2f} m/s again, from {speeds[nb]:.2f} m/s", len(speeds),
                             len(speeds))  # fmt: skip
-            depth = 0 if _walks(summaries[i]) else CONTINUATION_DEPTH
+            depth = 0 if walks(summaries[i]) else CONTINUATION_DEPTH
             pred = _warm(settings, summaries[nb], v, seed, solver, lambda _m: None, depth)
             forget_solvers()
-            ours = _per_metre(summaries[i], crit)
-            new = None if pred is None else _per_metre(pred.summary, crit)
+            ours = per_metre(summaries[i], crit)
+            new = None if pred is None else per_metre(pred.summary, crit)
             better = new is not None and (ours is None or new < ours)
-            keep = pred is not None and (not _walks(summaries[i]) or better)
+            keep = pred is not None and (not walks(summaries[i]) or better)
             if keep:
                 write_result(pred, speed_folder(out, v))
                 summaries[i] = pred.summary
@@ -231,7 +233,7 @@ def table_row(summary: dict, criterion: str) -> dict:
         "wall_time_s": summary["wall_time_s"],
         "via": ";".join(f"{u:g}" for u in (summary.get("sweep") or {}).get("via", [])),
         "criterion_value": value,
-        "criterion_per_metre": _per_metre(summary, criterion),
+        "criterion_per_metre": per_metre(summary, criterion),
         "looks_like_walking": g.get("looks_like_walking"),
         "peak_vertical_grf_bw": g.get("peak_vertical_grf_bw"),
         "pelvis_rotation_range_deg": g.get("pelvis_rotation_range_deg"),

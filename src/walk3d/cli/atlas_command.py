@@ -75,7 +75,6 @@ def show() -> None:
     walk3d can use them."""
     from rich.table import Table
 
-    from walk3d.solve import SOLVE_REVISION
     from walk3d.solve.atlas import ATLAS_DIR, load_atlas
 
     t = Table(title=f"walk3d atlas ({ATLAS_DIR})")
@@ -84,7 +83,6 @@ def show() -> None:
     for path in sorted(ATLAS_DIR.glob("*.json")):
         sex, preset = path.stem.split("-", 1)
         a = load_atlas(sex, preset)
-        ok = a.solve_revision == SOLVE_REVISION
         t.add_row(sex, preset, f"{a.speeds[0]:.2f}-{a.speeds[-1]:.2f}", str(len(a.speeds)),
-                  str(a.solve_revision), "yes" if ok else "no: rebuild")  # fmt: skip
+                  str(a.solve_revision), "yes" if a.current else "no: rebuild")  # fmt: skip
     console.print(t)

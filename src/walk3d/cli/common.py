@@ -99,7 +99,8 @@ Perturbation = Annotated[
     typer.Option(
         "--perturbation",
         help="Amplitude of the uniform random numbers added to the start (Fourier "
-        "coefficients of sin(angle/2); an atlas start adds none for seed 0). From standing, "
+        "coefficients of sin(angle/2); an atlas start adds a fifth of it, and none for seed "
+        "0). From standing, "
         "the default keeps the default prediction on the best walking optimum; 0.1 sends more "
         "of a campaign's starts to walking optima (docs/solver.md).",
         rich_help_panel=SOLVER,

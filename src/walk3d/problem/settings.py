@@ -209,8 +209,8 @@ class SolverSettings(_Group):
     ``standing``, the paper's method: upright standing plus noise, through the stages."""
     perturbation: float = 0.05
     """Amplitude of the uniform noise on the start's free coefficients (the paper does not give
-    it; an atlas start adds none for seed 0). 0.1 led more standing starts to walking optima,
-    but not the default seed's (docs/solver.md)."""
+    it; an atlas start adds a fifth of it, and none for seed 0). 0.1 led more standing starts
+    to walking optima, but not the default seed's (docs/solver.md)."""
     restarts: int = 1
     """How often a start that did not converge is tried again from a new standing start (the
     seed's next noise stream). 0: one try, as in the paper."""

@@ -61,6 +61,11 @@ class Atlas:
     model's, so an atlas that no longer matches the model is caught."""
     path: Path
 
+    @property
+    def current(self) -> bool:
+        """Whether this walk3d's solve revision made it."""
+        return self.solve_revision == SOLVE_REVISION
+
 
 @dataclass(frozen=True)
 class AtlasStart:
@@ -122,7 +127,7 @@ def load_atlas(sex: str, preset: str, root: Path | None = None) -> Atlas | None:
 def _usable(atlas: Atlas, ref: PredictionSettings) -> str | None:
     """Why ``atlas`` cannot start ``ref`` (None: it can). An atlas of another criterion serves
     when everything else matches."""
-    if atlas.solve_revision != SOLVE_REVISION:
+    if not atlas.current:
         return (f"the atlas {atlas.path.name} was made by solve revision {atlas.solve_revision}, "
                 f"not {SOLVE_REVISION}: rebuild it with `walk3d atlas build`")  # fmt: skip
     ours = settings_key(ref)

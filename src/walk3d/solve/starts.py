@@ -15,6 +15,7 @@ from dataclasses import replace
 import numpy as np
 
 import walk3d.solve.atlas as atlas
+import walk3d.solve.ipopt as ipopt
 from walk3d.problem import descriptors, layout, similarity, terms
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.ipopt import SolveOutcome, build_solver, descriptor_stage, merged, warm_stage
@@ -87,10 +88,10 @@ def solve_from_atlas(
         ref = ref.model_copy(update={"gait": g})
     solver = build_solver(ref, method)
     noise = atlas_noise(seed, ref.solver.perturbation)
+    stage = _last_stage(solver, ref, "the atlas", min(ATLAS_MAX_ITER, ref.solver.max_iter))
     outcome = None
     for k, start in enumerate(found):
         s0 = tuple(getattr(start, n) if n in g.free else getattr(g, n) for n in descriptors.NAMES)
-        stage = _last_stage(solver, ref, "the atlas", min(ATLAS_MAX_ITER, ref.solver.max_iter))
         if k:
             note(f"the atlas start did not converge: from its entry at {start.speeds[0]:.2f} m/s")
         this = warm_stage(solver, stage, start.x + noise, scale, on_stage, s0)
@@ -109,8 +110,6 @@ def solve_start(
 ) -> SolveOutcome:
     """Solve from ``settings.solver.start``: ``atlas`` (then standing if that fails) or
     ``standing``."""
-    from walk3d.solve import ipopt
-
     first = None
     if settings.solver.start == "atlas":
         with interruptible():
