@@ -1,5 +1,8 @@
 """Stage solvers are built on first use, once, and can be built in the background."""
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -30,6 +33,24 @@ def test_stages_are_built_once_on_first_use_or_in_the_background():
     assert g.size == solver.bounds.lbg.size
     with pytest.raises(ValueError, match="unknown stages"):
         solver.prepare("walking")
+
+
+def test_exit_waits_for_a_background_build():
+    """A process that exits while a stage builds in the background exits cleanly: the exit
+    handler (``join_builds``) waits for it; without it CasADi crashed such exits (SIGSEGV or
+    SIGABRT), in about half of the runs."""
+    solver = solver_mod._build.__wrapped__(SETTINGS, "ipopt", False)
+    thread = solver.prepare("balance")
+    assert thread.is_alive() and thread in solver_mod._BUILDS  # negative control: still building
+    solver_mod.join_builds()
+    assert not thread.is_alive() and "balance:3" in solver.stage_build_s
+    script = ("from walk3d.problem.settings import PredictionSettings as P; "
+              "from walk3d.solve.solver import build_solver; "
+              "s = build_solver(P(nodes=6)); s.prepare('balance'); "
+              "print('leaving', flush=True)")  # fmt: skip
+    r = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                       timeout=300)  # fmt: skip
+    assert r.returncode == 0 and r.stdout == "leaving\n", (r.returncode, r.stderr[-300:])
 
 
 def test_a_solve_builds_only_the_stages_it_runs():

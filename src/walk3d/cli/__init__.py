@@ -10,6 +10,7 @@ shared options in :mod:`walk3d.cli.common`.
 
 from __future__ import annotations
 
+import os
 import sys
 
 import typer
@@ -31,6 +32,15 @@ def _root() -> None:
     """Predict three-dimensional whole-body human walking."""
 
 
+def _interrupted() -> None:
+    """Ctrl-C: one line and exit code 130 at once, without waiting for a background stage
+    build to finish (:func:`walk3d.solve.solver.join_builds`); nothing is left to write."""
+    err_console.print("walk3d: interrupted", markup=False)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(130)
+
+
 def main(argv: list[str] | None = None) -> None:
     """Console-script entry point: usage errors become one line and exit code 2."""
     args = list(sys.argv[1:] if argv is None else argv) or ["--help"]
@@ -38,20 +48,18 @@ def main(argv: list[str] | None = None) -> None:
     try:
         rv = command.main(args=args, prog_name="walk3d", standalone_mode=False)
     except KeyboardInterrupt:
-        err_console.print("walk3d: interrupted", markup=False)
-        sys.exit(130)
+        _interrupted()
     except Exception as exc:  # Typer vendors click: match its exceptions by shape
         kind = type(exc).__name__
         if kind == "Exit":
             sys.exit(getattr(exc, "exit_code", 0))
         if kind == "Abort":
-            err_console.print("walk3d: interrupted", markup=False)
-            sys.exit(130)
+            _interrupted()
         if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
             msg = " ".join(exc.format_message().split())
             sys.stderr.write(f"walk3d: error: {msg}\n")
             sys.exit(2)
         raise
     if rv == 130:  # Typer returns Ctrl-C's exit code itself when not in standalone mode
-        err_console.print("walk3d: interrupted", markup=False)
+        _interrupted()
     sys.exit(rv if isinstance(rv, int) else 0)

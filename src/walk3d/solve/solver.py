@@ -9,9 +9,11 @@ process (:mod:`walk3d.solve.model_cache`). docs/solver.md has the measurements.
 
 from __future__ import annotations
 
+import atexit
 import inspect
 import threading
 import time
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cache
@@ -37,6 +39,19 @@ node function of each. The posture NLP's derivatives are small and its node 0 is
 ``nodes``: both stay in CasADi's VM."""
 CHUNKS = 8
 """Column blocks per compiled Jacobian or Hessian (:func:`derivatives.derivative_chunks`)."""
+
+
+_BUILDS: weakref.WeakSet[threading.Thread] = weakref.WeakSet()
+"""Background stage builds (:meth:`Solver.prepare`) that may still run."""
+
+
+@atexit.register
+def join_builds() -> None:
+    """Wait for the background stage builds. A build still inside CasADi when the interpreter
+    exits crashes the process (SIGSEGV or SIGABRT as CasADi's globals are destroyed under it),
+    so this runs at exit; a Ctrl-C exit skips it (:func:`walk3d.cli.main`)."""
+    for thread in list(_BUILDS):
+        thread.join()
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -163,6 +178,7 @@ class Solver:
                 self.stage(st)
 
         thread = threading.Thread(target=work, name="walk3d-build", daemon=True)
+        _BUILDS.add(thread)
         thread.start()
         return thread
 
