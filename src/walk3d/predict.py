@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 from pathlib import Path
 
@@ -109,6 +110,9 @@ def predict(
     from walk3d.solve import run_solver
     from walk3d.solve.starts import solve_warm
 
+    warm = threading.Thread(target=_warm_up_plots, name="walk3d-plots", daemon=True)
+    if out_dir is not None and figure:
+        warm.start()
     if warm_from is None:
         outcome = run_solver(settings, seed, solver, on_stage=on_stage)
     else:
@@ -121,8 +125,20 @@ def predict(
     ev = evaluate_cycle(body, settings, outcome.x)
     pred = make_prediction(ev.prediction_arrays, summarize(settings, seed, outcome, ev, solver))
     if out_dir is not None:
+        if warm.is_alive():
+            warm.join()  # Matplotlib's font objects are not for two threads at once
         write_result(pred, out_dir, figure)
     return pred
+
+
+def _warm_up_plots() -> None:
+    """:func:`walk3d.plots.warm_up`, quietly: the figure itself reports any real failure."""
+    try:
+        from walk3d.plots import warm_up
+
+        warm_up()
+    except Exception:  # noqa: BLE001 (the summary figure later raises what matters)
+        pass
 
 
 def write_result(pred: Prediction, out_dir: str | Path, figure: bool = True) -> Path:

@@ -281,3 +281,18 @@ def test_summary_title():
     assert _title({"converged": False, "objective": {"C_tor": None}, "iterations": "x"}) == (
         "walk3d prediction: NOT CONVERGED"
     )
+
+
+def test_warm_up_leaves_the_summary_figure_unchanged(tmp_path):
+    """walk3d.plots.warm_up (run in a thread while IPOPT iterates) writes nothing and changes
+    no Matplotlib state that the figure reads: the same PNG, byte for byte, before and after.
+    Negative control: another prediction gives another PNG."""
+    from walk3d.plots import warm_up
+
+    pred = make_prediction(seed=1)
+    before = summary_figure(pred, tmp_path / "a.png").read_bytes()
+    warm_up()
+    after = summary_figure(pred, tmp_path / "b.png").read_bytes()
+    other = summary_figure(make_prediction(seed=2), tmp_path / "c.png").read_bytes()
+    assert before == after and other != before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png", "b.png", "c.png"]

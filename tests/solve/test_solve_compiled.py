@@ -8,6 +8,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
+from walk3d.problem import derivatives
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import compiled, model_cache, solver
 
@@ -45,23 +46,27 @@ def _dense(m) -> np.ndarray:
     return np.array(ca.densify(ca.DM(m)))
 
 
-def test_compile_then_build_uses_the_compiled_blocks(fake_compiler):
-    assert solver.compiled_status(SETTINGS) == {"compiled": [], "missing": 4 * solver.CHUNKS}
+def test_compile_then_build_uses_the_compiled_blocks(fake_compiler, monkeypatch):
+    kinds = ["balance", "full", "full_hs"]  # the full NLP's node 0 too
+    assert solver.compiled_status(SETTINGS) == {"compiled": [], "missing": 6 * solver.CHUNKS}
     assert solver.build_solver(SETTINGS).compiled == {}
     names: list[str] = []
     info = solver.compile_solver(SETTINGS, on_done=lambda n, i, t: names.append(n))
-    assert info["compiled"] == 4 * solver.CHUNKS == len(names)
-    assert [c[1] for c in fake_compiler] == [2 * solver.CHUNKS] * 2
-    assert len({c[0] for c in fake_compiler}) == 2  # one key per NLP kind
-    assert solver.compiled_status(SETTINGS) == {"compiled": ["balance", "full"], "missing": 0}
+    assert info["compiled"] == 6 * solver.CHUNKS == len(names)
+    assert [c[1] for c in fake_compiler] == [2 * solver.CHUNKS] * 3
+    assert len({c[0] for c in fake_compiler}) == 3  # one key per node function
+    assert solver.compiled_status(SETTINGS) == {"compiled": kinds, "missing": 0}
     assert solver.compile_solver(SETTINGS)["compiled"] == 0  # nothing left to compile
 
     comp = solver.build_solver(SETTINGS)  # the cache was cleared: loads the blocks
-    assert sorted(comp.compiled) == ["balance", "full"]
+    assert sorted(comp.compiled) == kinds
+    with monkeypatch.context() as m:  # the full NLP differentiates no node function itself
+        m.setattr(derivatives, "node_derivatives", lambda *a: pytest.fail("differentiated"))
+        comp._problem("full")
     plain = solver._build.__wrapped__(SETTINGS, "ipopt", False)  # no cache: VM derivatives
     assert plain.compiled == {}
     rng = np.random.default_rng(2)
-    for kind in ("balance", "full"):
+    for kind in ("balance", "full"):  # the full NLP's Hessian and Jacobian include node 0's
         a = comp._problem(kind)["derivatives"]
         b = plain._problem(kind)["derivatives"]
         z = rng.uniform(-0.1, 0.1, comp.bounds.lbz.size)
@@ -82,8 +87,8 @@ def test_compiled_libraries_follow_the_node_functions(fake_compiler):
     share them."""
     solver.compile_solver(SETTINGS)
     other = SETTINGS.replace(**{"sex": "female"})
-    assert solver.compiled_status(other)["missing"] == 4 * solver.CHUNKS
+    assert solver.compiled_status(other)["missing"] == 6 * solver.CHUNKS
     other_criterion = SETTINGS.replace(**{"criterion": "tor"})
-    assert solver.compiled_status(other_criterion)["missing"] == 4 * solver.CHUNKS
+    assert solver.compiled_status(other_criterion)["missing"] == 6 * solver.CHUNKS
     for same in ({"nodes": 8, "threads": 2}, {"speed": 1.2}, {"mass": 80.0, "height": 1.6}):
         assert solver.compiled_status(SETTINGS.replace(**same))["missing"] == 0

@@ -23,7 +23,7 @@ if TYPE_CHECKING:
 
     from walk3d.results.prediction import Prediction
 
-__all__ = ["summary_figure"]
+__all__ = ["summary_figure", "warm_up"]
 
 _RIGHT = {"color": "tab:red", "label": "right"}
 _LEFT = {"color": "tab:blue", "label": "left"}
@@ -153,6 +153,29 @@ def _draw(pred: Prediction, figsize: Sequence[float], dpi: float):
         ax.set_xlabel("% gait cycle", fontsize=8)
     axes[0].legend(fontsize=7, loc="best")
     fig.suptitle(_title(pred.summary), fontsize=10)
+    return fig
+
+
+def warm_up() -> None:
+    """Import Matplotlib and render a small figure with text, so that its fonts and caches are
+    loaded. About 0.6 s; :func:`walk3d.predict.predict` runs it in a thread while IPOPT
+    iterates (CasADi releases the GIL), which takes it off the end-to-end time."""
+    import io
+
+    fig = _draw_blank()
+    fig.savefig(io.BytesIO(), format="png")
+
+
+def _draw_blank():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(1.0, 1.0), dpi=20)
+    FigureCanvasAgg(fig)
+    ax = fig.subplots()
+    ax.plot([0.0, 1.0], [0.0, 1.0])
+    ax.set_title("walk3d", fontsize=9)
+    ax.legend(["line"], fontsize=7)
     return fig
 
 

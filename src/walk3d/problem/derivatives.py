@@ -69,6 +69,8 @@ class NlpPieces:
     """``(jac, grad, hess)`` of the mapped node function, if built elsewhere (compiled C, from
     :func:`derivative_chunks`; ``hess`` may be the list of its column blocks, then mapped by
     :func:`map_blocks`); None builds them here with :func:`node_derivatives`."""
+    node0_derivs: NodeDerivs | None = None
+    """The same of node 0's function (with the heel-strike rows; compiled), or None."""
 
 
 def _node_symbols(node: ca.Function, crit: int):
@@ -163,6 +165,9 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     same = pc.node0 is pc.node
     if same:
         j0, d0, h0 = jn, dn, h_one
+    elif pc.node0_derivs is not None:
+        j0, d0, h0 = pc.node0_derivs
+        h0 = assemble(h0, "walk3d_node0_hess") if isinstance(h0, list) else h0
     else:
         j0, d0, h0 = node_derivatives(pc.node0, pc.crit)
     params = pc.params if isinstance(pc.params, ca.MX) else ca.DM(pc.params)

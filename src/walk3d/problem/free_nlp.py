@@ -35,6 +35,7 @@ def build_free_nlp(
     balance: bool = True,
     functions: dict[str, ca.Function] | None = None,
     node_derivs: NodeDerivs | None = None,
+    node0_derivs: NodeDerivs | None = None,
 ):
     """Symbolic NLP dict ``{x, f, g}`` with ``s`` in ``z``, its schedule (at the first guess) and
     the lifting maps there; arguments as :func:`walk3d.problem.nlp.build_nlp`."""
@@ -71,6 +72,6 @@ def build_free_nlp(
                            range_mat=np.zeros((0, layout.N_X)), hs_rows=nlp.G_ROWS["hs_wrench"],
                            hs_map=nc.hs_map, weight=weights, crit=crit, layout=lay,
                            g_loop=ca.MX(0, 1), x=x, threads=threads, node_derivs=node_derivs,
-                           free=free)  # fmt: skip
+                           node0_derivs=node0_derivs, free=free)  # fmt: skip
         prob["derivatives"] = derivative_functions(pieces)
     return prob, sch, lift

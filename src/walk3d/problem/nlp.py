@@ -344,6 +344,7 @@ def build_nlp(
     balance: bool = True,
     functions: dict[str, ca.Function] | None = None,
     node_derivs: NodeDerivs | None = None,
+    node0_derivs: NodeDerivs | None = None,
 ):
     """Symbolic NLP dict ``{x, f, g}`` (MX calling the per-node SX function), its
     :class:`Schedule` and the lifting maps ``(n_nodes, 78, N_X)``.
@@ -352,9 +353,8 @@ def build_nlp(
     loop checks (6 per :func:`loop_check_times`)]``. The node function is called once through
     ``map``, so derivatives are generated once per node function. ``functions``: prebuilt SX
     functions (:func:`model_functions`, maybe from the cache); missing ones are built here.
-    ``node_derivs``: ``(jac, grad, hess)`` of the mapped node function, if built elsewhere
-    (compiled; :attr:`walk3d.problem.derivatives.NlpPieces.node_derivs`).
-    """
+    ``node_derivs``, ``node0_derivs``: ``(jac, grad, hess)`` of the mapped node function and of
+    node 0's, if built elsewhere (compiled; :class:`walk3d.problem.derivatives.NlpPieces`)."""
     sch = schedule(settings)
     lift = lifting_maps(settings, sch)
     params = ca.DM(node_params(settings, sch))
@@ -393,6 +393,7 @@ def build_nlp(
                            lift=lift, range_mat=range_np, hs_rows=G_ROWS["hs_wrench"],
                            hs_map=nc.hs_map, weight=weight, crit=crit, layout=lay,
                            g_loop=g_loop, x=x, threads=settings.solver.threads,
-                           node_derivs=node_derivs, quad=quad)  # fmt: skip
+                           node_derivs=node_derivs, node0_derivs=node0_derivs,
+                           quad=quad)  # fmt: skip
         prob["derivatives"] = derivative_functions(pieces)
     return prob, sch, lift

@@ -33,10 +33,13 @@ from walk3d.solve.plan import Plan, Stage, default_plan
 from walk3d.solve.progress import IterationReporter
 
 COMPILED_NODES = {"balance": nlp._node_name(False, True, False),
-                  "full": nlp._node_name(True, True, False)}  # fmt: skip
-"""NLPs whose mapped node derivatives can be compiled to C (:func:`compile_solver`), and the
-node function of each. The posture NLP's derivatives are small and its node 0 is one node of
-``nodes``: both stay in CasADi's VM."""
+                  "full": nlp._node_name(True, True, False),
+                  "full_hs": nlp._node_name(True, True, True)}  # fmt: skip
+"""Node functions whose derivatives can be compiled to C (:func:`compile_solver`), by NLP kind:
+the mapped nodes of the balance and full NLPs, and node 0 of the full NLP (``<kind>_hs``, with
+the heel-strike rows), whose derivatives otherwise take about 2 s of every process's set-up,
+the only stage a start from the atlas runs. The posture NLP's derivatives are small and its
+node 0 is one node of ``nodes``; the balance NLP's node 0 stays in CasADi's VM too."""
 CHUNKS = 8
 """Column blocks per compiled Jacobian or Hessian (:func:`derivatives.derivative_chunks`)."""
 
@@ -136,7 +139,8 @@ class Solver:
                 build = free_nlp.build_free_nlp if self.settings.gait.free else nlp.build_nlp
                 prob, _, _ = build(self.body, self.settings, dynamics=dynamics, balance=balance,
                                    functions=self.functions,
-                                   node_derivs=self.compiled.get(kind))  # fmt: skip
+                                   node_derivs=self.compiled.get(kind),
+                                   node0_derivs=self.compiled.get(f"{kind}_hs"))  # fmt: skip
                 self._built[key] = prob
                 self.stage_build_s[key] = time.perf_counter() - t0
             return self._built[key]  # type: ignore[return-value]
