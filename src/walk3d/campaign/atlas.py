@@ -60,6 +60,45 @@ def fingerprint(settings: PredictionSettings, entry: dict) -> dict:
             "constraint_norm": float(np.linalg.norm(np.array(g)))}  # fmt: skip
 
 
+GRID_TOLERANCE = 1e-6
+"""Largest constraint violation of an entry on the grid it was solved on (IPOPT's ``tol`` is
+1e-8; on a neighbouring grid an entry violated the node rows by 0.04)."""
+
+
+def violation_on_grid(settings: PredictionSettings, entry: dict, ds_nodes: int) -> float:
+    """The free-descriptor NLP's largest constraint violation (bounds on ``z`` and ``g``) at
+    ``entry``'s start on the grid with ``ds_nodes`` double-support intervals."""
+    from walk3d.solve.ipopt import _z_from_x, build_solver, full_stage_start
+
+    t, td = entry["period"], entry["double_support"]
+    td0 = descriptors.guess_for_grid(t, ds_nodes, settings.solver.nodes)
+    trial = settings.replace(speed=entry["speed"], period=t, double_support=td0)
+    solver = build_solver(trial)
+    z = full_stage_start(solver, _z_from_x(solver, np.asarray(entry["x"], dtype=float), (t, td)))
+    b = solver.nlp_bounds("free")
+    g = np.array(solver.constraints(z)).ravel()
+    return float(max(np.max(b.lbz - z), np.max(z - b.ubz), np.max(b.lbg - g), np.max(g - b.ubg)))
+
+
+def entry_grid(settings: PredictionSettings, entry: dict) -> int:
+    """The double-support intervals of the grid ``entry`` was solved on: the grid, among those
+    of its T and Td ± 1, on which it is feasible (:data:`GRID_TOLERANCE`). A sweep starts each
+    speed with its neighbour's T and Td as the first guess, which sets the grid
+    (:func:`walk3d.problem.descriptors.free_grid`), so it is not the grid of the entry's own."""
+    from walk3d.solve.solver import forget_solvers
+
+    n = settings.solver.nodes
+    own = descriptors.free_grid(n, entry["period"], entry["double_support"]).n_ds
+    tried = {}
+    for k in (own, own - 1, own + 1):
+        if 2 <= k <= n - 3:
+            tried[k] = violation_on_grid(settings, entry, k)
+            forget_solvers()
+            if tried[k] <= GRID_TOLERANCE:
+                return k
+    raise ValueError(f"the entry at {entry['speed']} m/s is feasible on no grid: {tried}")
+
+
 def _entries(summaries: list[dict], preset: str) -> list[dict]:
     from walk3d.campaign.sweep import per_metre, walks
 
@@ -117,6 +156,8 @@ def write_atlas(
     entries = _entries(summaries, preset)
     if not entries:
         raise ValueError(f"no speed of {work} walked: no atlas written")
+    for e in entries:
+        e["grid_ds_nodes"] = entry_grid(settings, e)
     middle = min(entries, key=lambda e: abs(e["speed"] - 1.3))
     data = {
         "format": FORMAT, "sex": sex, "preset": preset, "solve_revision": SOLVE_REVISION,

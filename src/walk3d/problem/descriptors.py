@@ -99,6 +99,12 @@ def free_grid(nodes: int, period: float, ds: float) -> FreeGrid:
     )  # fmt: skip
 
 
+def guess_for_grid(period: float, ds_nodes: int, nodes: int) -> float:
+    """A first guess of Td (s) that, with ``period``, gives :func:`free_grid` ``ds_nodes``
+    double-support intervals: to start from a solution on the grid it was solved on."""
+    return ds_nodes * period / (2 * nodes)
+
+
 def objective_scale(period: Any, period0: float) -> Any:
     """Per-distance normalization of a cycle's criterion (module doc): ``T0 / T``."""
     return period0 / period

@@ -32,8 +32,8 @@ __all__ = ["ATLAS_DIR", "FORMAT", "Atlas", "AtlasStart", "atlas_path", "candidat
 
 ATLAS_DIR = Path(__file__).resolve().parent / "atlas_data"
 """Where the package's atlas files are (package data)."""
-FORMAT = 1
-"""Version of the file layout below."""
+FORMAT = 2
+"""Version of the file layout below (2: each entry records its grid, ``grid_ds_nodes``)."""
 MAX_EXTRAPOLATION = 0.35
 """Largest distance (m/s, reference subject) from the atlas's speeds at which its nearest entry
 is still used as a start; farther, the start is standing."""
@@ -55,6 +55,9 @@ class Atlas:
     """s."""
     x: np.ndarray
     """(n, N_X) decision vectors (:mod:`walk3d.problem.layout`)."""
+    grid_ds_nodes: np.ndarray
+    """Double-support intervals of the grid each entry was solved on
+    (:func:`walk3d.problem.descriptors.free_grid`): an entry is the optimum on that grid only."""
     fingerprint: dict
     """The given-descriptor NLP's objective and constraint norm at one entry's start
     (:func:`walk3d.campaign.atlas.fingerprint`): a test compares them with the current
@@ -79,6 +82,8 @@ class AtlasStart:
     weights: tuple[float, ...]
     preset: str
     """The criterion preset of the atlas file."""
+    grid_ds_nodes: int
+    """The grid of the entry with the larger weight (:attr:`Atlas.grid_ds_nodes`)."""
 
     def describe(self) -> dict:
         return {"atlas_speeds": list(self.speeds), "atlas_weights": list(self.weights),
@@ -112,6 +117,7 @@ def _read(path: Path, mtime_ns: int) -> Atlas:
         settings=data["settings"], speeds=np.array([e["speed"] for e in entries]),
         periods=np.array([e["period"] for e in entries]),
         double_supports=np.array([e["double_support"] for e in entries]), x=x,
+        grid_ds_nodes=np.array([int(e["grid_ds_nodes"]) for e in entries]),
         fingerprint=data.get("fingerprint", {}), path=path,
     )  # fmt: skip
 
@@ -194,4 +200,5 @@ def _blend(atlas: Atlas, pairs: list[tuple[int, float]]) -> AtlasStart:
         double_support=float(blend(atlas.double_supports)),
         speeds=tuple(float(atlas.speeds[i]) for i, _ in pairs),
         weights=tuple(round(wt, 6) for _, wt in pairs), preset=atlas.preset,
+        grid_ds_nodes=int(atlas.grid_ds_nodes[max(pairs, key=lambda p: p[1])[0]]),
     )  # fmt: skip

@@ -86,13 +86,23 @@ def initial_guess(solver: Solver, seed: int, attempt: int = 0) -> np.ndarray:
     return _z_from_x(solver, x0)
 
 
-def _z_from_x(solver: Solver, x: np.ndarray) -> np.ndarray:
-    lay = solver.layout
+def _z_from_x(solver: Solver, x: np.ndarray, s0: tuple[float, ...] | None = None) -> np.ndarray:
+    """``z`` with the coefficients ``x`` and the node coordinates lifted from them; with
+    predicted descriptors at ``s0`` (default: the first guess), clipped to their bounds."""
+    lay, g = solver.layout, solver.settings.gait
     z = np.zeros(lay.n_z)
     z[lay.z("x")], z[lay.z("w0")] = x, STANDING_W0
-    z[lay.z("y")] = np.einsum("kij,j->ki", solver.lift, x).ravel()
-    z[lay.z("s")] = [solver.settings.gait.period, solver.settings.gait.double_support][: lay.n_s]
-    return np.clip(z, solver.bounds_balance.lbz, solver.bounds_balance.ubz)
+    s = [g.period, g.double_support][: lay.n_s]
+    if lay.n_s and s0 is not None:
+        b = solver.nlp_bounds("free")
+        s = np.clip(s0[: lay.n_s], b.lbz[lay.z("s")], b.ubz[lay.z("s")])
+        grid = descriptors.free_grid(solver.settings.solver.nodes, g.period, g.double_support)
+        z[lay.z("y")] = np.array(descriptors.lift_function(grid)(x, s)).ravel()
+    else:
+        z[lay.z("y")] = np.einsum("kij,j->ki", solver.lift, x).ravel()
+    z = np.clip(z, solver.bounds_balance.lbz, solver.bounds_balance.ubz)
+    z[lay.z("s")] = s  # the balance NLP pins s at the first guess
+    return z
 
 
 SLACK_MARGIN = 1e-2
@@ -243,12 +253,7 @@ def warm_stage(
     note = on_stage or (lambda _msg: None)
     t0 = time.perf_counter()
     note(stage.title)
-    z0 = _z_from_x(solver, np.asarray(x_ref, dtype=float))
-    lay = solver.layout
-    if s0 is not None and lay.n_s:
-        b = solver.nlp_bounds(stage.problem)
-        z0[lay.z("s")] = np.clip(s0[: lay.n_s], b.lbz[lay.z("s")], b.ubz[lay.z("s")])
-    z0 = full_stage_start(solver, z0)
+    z0 = full_stage_start(solver, _z_from_x(solver, np.asarray(x_ref, dtype=float), s0))
     z, record = _run(solver.stage(stage), solver, z0, stage.name, stage.problem,
                      _listener(on_stage, stage))  # fmt: skip
     record["attempt"] = 0
