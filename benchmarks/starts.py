@@ -79,8 +79,11 @@ def _walks(summary: dict) -> bool:
 
 
 def _criterion(summary: dict) -> float | None:
+    from walk3d.problem import terms
+
     obj = summary.get("objective") or {}
-    value = next(iter(obj.values()), {}).get("total") if obj else None
+    label = terms.label(summary["settings"]["model"]["criterion"])
+    value = (obj.get(label) or {}).get("total")  # the minimized criterion, as a campaign ranks
     if value is None:
         return None
     d = summary["descriptors"]
@@ -142,16 +145,18 @@ def _campaign(out: Path, args: list[str], starts: int, fresh: bool, extra=()) ->
         return list(csv.DictReader(fh)), wall
 
 
+def _walked(row: dict) -> bool:
+    """A ranking.csv row that converged and looks like walking (the file writes ``true``)."""
+    return row["converged"].lower() == "true" and row["looks_like_walking"].lower() == "true"
+
+
 def _best(rows: list[dict]) -> float | None:
-    vals = [float(r["criterion_value"]) for r in rows
-            if r["converged"] == "True" and r["looks_like_walking"] == "True"]  # fmt: skip
+    vals = [float(r["criterion_value"]) for r in rows if _walked(r)]
     return min(vals) if vals else None
 
 
 def _share(rows: list[dict]) -> float:
-    return sum(r["converged"] == "True" and r["looks_like_walking"] == "True" for r in rows) / len(
-        rows
-    )
+    return sum(_walked(r) for r in rows) / len(rows)
 
 
 def part_campaigns(fresh: bool, predicted: dict, names: list[str] | None, given: bool) -> dict:
