@@ -69,6 +69,7 @@ def violation_on_grid(settings: PredictionSettings, entry: dict, ds_nodes: int) 
     """The free-descriptor NLP's largest constraint violation (bounds on ``z`` and ``g``) at
     ``entry``'s start on the grid with ``ds_nodes`` double-support intervals."""
     from walk3d.solve.ipopt import _z_from_x, build_solver, full_stage_start
+    from walk3d.solve.progress import bound_violation
 
     t, td = entry["period"], entry["double_support"]
     td0 = descriptors.guess_for_grid(t, ds_nodes, settings.solver.nodes)
@@ -77,7 +78,7 @@ def violation_on_grid(settings: PredictionSettings, entry: dict, ds_nodes: int) 
     z = full_stage_start(solver, _z_from_x(solver, np.asarray(entry["x"], dtype=float), (t, td)))
     b = solver.nlp_bounds("free")
     g = np.array(solver.constraints(z)).ravel()
-    return float(max(np.max(b.lbz - z), np.max(z - b.ubz), np.max(b.lbg - g), np.max(g - b.ubg)))
+    return max(bound_violation(z, b.lbz, b.ubz), bound_violation(g, b.lbg, b.ubg))
 
 
 def entry_grid(settings: PredictionSettings, entry: dict) -> int:
