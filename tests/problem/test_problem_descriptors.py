@@ -19,7 +19,8 @@ def _free(**extra) -> PredictionSettings:
 
 
 def test_grid_follows_the_phases_and_integrates_the_half_cycle():
-    grid = descriptors.free_grid(20, 1.08, 0.16)
+    grid = descriptors.free_grid(20)
+    assert grid.n_ds == descriptors.ds_intervals(20) == 4  # 10 % of 2 x 20 intervals
     for t, td in [(1.08, 0.16), (0.95, 0.09), (1.4, 0.25)]:
         tau = np.array(grid.tau(t, td))
         assert tau[0] == 0.0 and tau[grid.n_ds] == pytest.approx(td)  # heel strike, toe off
@@ -30,11 +31,25 @@ def test_grid_follows_the_phases_and_integrates_the_half_cycle():
     assert grid.double_support.sum() == grid.n_ds + 1
 
 
+def test_the_grid_does_not_depend_on_the_first_guess():
+    """The problem, and so its optimum, is the same from any first guess of T and Td: only the
+    objective's constant scale T0 / T differs."""
+    a = free_nlp.build_free_nlp(body_for(_free()), _free())[1]
+    other = _free().replace(period=0.95, double_support=0.2)
+    b = free_nlp.build_free_nlp(body_for(other), other)[1]
+    assert np.array_equal(a.double_support, b.double_support)
+    assert np.array_equal(a.decay, b.decay)
+    # negative control: another count of double-support intervals is another grid
+    assert not np.array_equal(descriptors.free_grid(8).decay, descriptors.free_grid(8, 3).decay)
+    with pytest.raises(ValueError, match="do not fit"):
+        descriptors.free_grid(8, 7)
+
+
 def test_lifting_of_s_equals_the_numeric_maps_at_the_first_guess():
     s = _free()
     sch = schedule(s)
     lift = lifting_maps(s, sch)
-    fn = descriptors.lift_function(descriptors.free_grid(8, 1.1, 0.15))
+    fn = descriptors.lift_function(descriptors.free_grid(8))
     x = np.random.default_rng(0).normal(size=layout.N_X)
     want = np.einsum("kij,j->ki", lift, x).ravel()
     np.testing.assert_allclose(np.array(fn(x, [1.1, 0.15])).ravel(), want, atol=1e-12)

@@ -8,7 +8,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from walk3d.campaign.atlas import GRID_TOLERANCE, atlas_settings, fingerprint, violation_on_grid
+from walk3d.campaign.atlas import ENTRY_TOLERANCE, atlas_settings, fingerprint, violation
 from walk3d.problem import layout
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import SOLVE_REVISION, atlas, starts
@@ -18,7 +18,6 @@ from walk3d.solve.plan import SUCCESS
 def _write(root, speeds, revision=SOLVE_REVISION, sex="male", preset="natural", settings=None):
     settings = settings or atlas.settings_key(atlas_settings(sex, preset))
     entries = [{"speed": v, "period": 1.0 + v, "double_support": 0.1 * v,
-                "grid_ds_nodes": 4 if v < 1.3 else 5,
                 "x": [float(k) * v for k in range(layout.N_X)]} for v in speeds]  # fmt: skip
     data = {"format": atlas.FORMAT, "sex": sex, "preset": preset, "solve_revision": revision,
             "settings": settings, "entries": entries}  # fmt: skip
@@ -37,8 +36,6 @@ def test_a_start_blends_the_two_bracketing_speeds(tmp_path):
     assert start.period == pytest.approx(1.0 + 1.25)
     assert start.double_support == pytest.approx(0.125)
     assert start.x[3] == pytest.approx(3 * 1.25)
-    assert start.grid_ds_nodes == 4  # the grid of the entry with the larger weight
-    assert atlas.start_for(_ref(1.35), tmp_path)[0].grid_ds_nodes == 5
     exact, _ = atlas.start_for(_ref(1.2), tmp_path)
     assert exact.speeds == (1.2,) and exact.x[3] == pytest.approx(3.6)
 
@@ -112,18 +109,24 @@ def test_the_shipped_atlas_matches_the_model_and_solver(sex):
     assert other["objective"] != pytest.approx(fp["objective"], rel=1e-4)
 
 
-def test_an_atlas_entry_is_the_optimum_of_the_grid_it_records():
-    """At an entry's own speed the start is its problem's optimum on the grid the entry records
-    (walk3d.solve.starts._on_grid_of); on the grid of its own T and Td, one interval more in
-    double support, it is not (the negative control: node rows violated by a few 0.01)."""
+def test_an_atlas_entry_is_the_optimum_of_its_problem(monkeypatch):
+    """At an entry's own speed the start is its problem's optimum: every shipped entry was
+    checked when written (``write_atlas``), one is checked here. Negative control: on a grid
+    with one double-support interval more, the same entry violates the node rows."""
+    from walk3d.problem import descriptors
+    from walk3d.solve.solver import forget_solvers
+
     a = atlas.load_atlas("male", "natural")
     settings = atlas_settings("male", "natural")
     i = int(np.argmin(np.abs(a.speeds - 1.4)))
     entry = {"speed": float(a.speeds[i]), "period": float(a.periods[i]),
              "double_support": float(a.double_supports[i]), "x": a.x[i]}  # fmt: skip
-    assert int(a.grid_ds_nodes[i]) == 4
-    assert violation_on_grid(settings, entry, 4) <= GRID_TOLERANCE
-    assert violation_on_grid(settings, entry, 5) > 0.01
+    assert violation(settings, entry) <= ENTRY_TOLERANCE
+    forget_solvers()
+    n_ds = descriptors.ds_intervals(settings.solver.nodes)
+    monkeypatch.setattr(descriptors, "ds_intervals", lambda nodes: n_ds + 1)
+    assert violation(settings, entry) > 0.01
+    forget_solvers()
 
 
 def _outcome(converged, stages):

@@ -60,44 +60,24 @@ def fingerprint(settings: PredictionSettings, entry: dict) -> dict:
             "constraint_norm": float(np.linalg.norm(np.array(g)))}  # fmt: skip
 
 
-GRID_TOLERANCE = 1e-6
-"""Largest constraint violation of an entry on the grid it was solved on (IPOPT's ``tol`` is
-1e-8; on a neighbouring grid an entry violated the node rows by 0.04)."""
+ENTRY_TOLERANCE = 1e-6
+"""Largest constraint violation of an entry at its start (IPOPT's ``tol`` is 1e-8; an optimum
+of another grid violated the node rows by 0.04)."""
 
 
-def violation_on_grid(settings: PredictionSettings, entry: dict, ds_nodes: int) -> float:
+def violation(settings: PredictionSettings, entry: dict) -> float:
     """The free-descriptor NLP's largest constraint violation (bounds on ``z`` and ``g``) at
-    ``entry``'s start on the grid with ``ds_nodes`` double-support intervals."""
+    ``entry``'s start: at most :data:`ENTRY_TOLERANCE` when the entry is that problem's optimum."""
     from walk3d.solve.ipopt import _z_from_x, build_solver, full_stage_start
     from walk3d.solve.progress import bound_violation
 
     t, td = entry["period"], entry["double_support"]
-    td0 = descriptors.guess_for_grid(t, ds_nodes, settings.solver.nodes)
-    trial = settings.replace(speed=entry["speed"], period=t, double_support=td0)
+    trial = settings.replace(speed=entry["speed"], period=t, double_support=td)
     solver = build_solver(trial)
     z = full_stage_start(solver, _z_from_x(solver, np.asarray(entry["x"], dtype=float), (t, td)))
     b = solver.nlp_bounds("free")
     g = np.array(solver.constraints(z)).ravel()
     return max(bound_violation(z, b.lbz, b.ubz), bound_violation(g, b.lbg, b.ubg))
-
-
-def entry_grid(settings: PredictionSettings, entry: dict) -> int:
-    """The double-support intervals of the grid ``entry`` was solved on: the grid, among those
-    of its T and Td ± 1, on which it is feasible (:data:`GRID_TOLERANCE`). A sweep starts each
-    speed with its neighbour's T and Td as the first guess, which sets the grid
-    (:func:`walk3d.problem.descriptors.free_grid`), so it is not the grid of the entry's own."""
-    from walk3d.solve.solver import forget_solvers
-
-    n = settings.solver.nodes
-    own = descriptors.free_grid(n, entry["period"], entry["double_support"]).n_ds
-    tried = {}
-    for k in (own, own - 1, own + 1):
-        if 2 <= k <= n - 3:
-            tried[k] = violation_on_grid(settings, entry, k)
-            forget_solvers()
-            if tried[k] <= GRID_TOLERANCE:
-                return k
-    raise ValueError(f"the entry at {entry['speed']} m/s is feasible on no grid: {tried}")
 
 
 def _entries(summaries: list[dict], preset: str) -> list[dict]:
@@ -151,6 +131,7 @@ def write_atlas(
     ``grid``); returns the file and its number of entries."""
     from walk3d.campaign.sweep import speed_folder
     from walk3d.results.prediction import load_result
+    from walk3d.solve.solver import forget_solvers
 
     settings = atlas_settings(sex, preset)
     summaries = [load_result(speed_folder(work, float(v))).summary for v in grid]
@@ -158,7 +139,11 @@ def write_atlas(
     if not entries:
         raise ValueError(f"no speed of {work} walked: no atlas written")
     for e in entries:
-        e["grid_ds_nodes"] = entry_grid(settings, e)
+        worst = violation(settings, e)
+        forget_solvers()
+        if worst > ENTRY_TOLERANCE:
+            raise ValueError(f"the entry at {e['speed']} m/s violates its problem by {worst:.2g}: "
+                             "sweep again (`walk3d atlas build`)")  # fmt: skip
     middle = min(entries, key=lambda e: abs(e["speed"] - 1.3))
     data = {
         "format": FORMAT, "sex": sex, "preset": preset, "solve_revision": SOLVE_REVISION,

@@ -82,7 +82,7 @@ def free_schedule(settings: PredictionSettings) -> Schedule:
     """The phase-following grid of :mod:`walk3d.problem.descriptors` at the settings' T and
     Td (with a free descriptor they are the first guess)."""
     g = settings.gait
-    grid = descriptors.free_grid(settings.solver.nodes, g.period, g.double_support)
+    grid = descriptors.free_grid(settings.solver.nodes)
     t_hs = GaitPhases(g.period, g.double_support).heel_strike_r
     ds = grid.double_support
     return Schedule(

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from walk3d.problem import layout, terms
+from walk3d.problem import descriptors, layout, terms
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.revision import SOLVE_REVISION
 
@@ -32,8 +32,9 @@ __all__ = ["ATLAS_DIR", "FORMAT", "Atlas", "AtlasStart", "atlas_path", "candidat
 
 ATLAS_DIR = Path(__file__).resolve().parent / "atlas_data"
 """Where the package's atlas files are (package data)."""
-FORMAT = 2
-"""Version of the file layout below (2: each entry records its grid, ``grid_ds_nodes``)."""
+FORMAT = 3
+"""Version of the file layout below (3: every entry is on the one free grid of its node count,
+:func:`walk3d.problem.descriptors.free_grid`)."""
 MAX_EXTRAPOLATION = 0.35
 """Largest distance (m/s, reference subject) from the atlas's speeds at which its nearest entry
 is still used as a start; farther, the start is standing."""
@@ -55,9 +56,6 @@ class Atlas:
     """s."""
     x: np.ndarray
     """(n, N_X) decision vectors (:mod:`walk3d.problem.layout`)."""
-    grid_ds_nodes: np.ndarray
-    """Double-support intervals of the grid each entry was solved on
-    (:func:`walk3d.problem.descriptors.free_grid`): an entry is the optimum on that grid only."""
     fingerprint: dict
     """The given-descriptor NLP's objective and constraint norm at one entry's start
     (:func:`walk3d.campaign.atlas.fingerprint`): a test compares them with the current
@@ -82,8 +80,6 @@ class AtlasStart:
     weights: tuple[float, ...]
     preset: str
     """The criterion preset of the atlas file."""
-    grid_ds_nodes: int
-    """The grid of the entry with the larger weight (:attr:`Atlas.grid_ds_nodes`)."""
 
     def describe(self) -> dict:
         return {"atlas_speeds": list(self.speeds), "atlas_weights": list(self.weights),
@@ -96,6 +92,7 @@ def settings_key(settings: PredictionSettings) -> dict:
     model = settings.model.model_dump(mode="json")
     model["criterion"] = terms.preset_name(settings.model.criterion) or model["criterion"]
     return {"sex": settings.gait.sex, "model": model, "nodes": settings.solver.nodes,
+            "ds_intervals": descriptors.ds_intervals(settings.solver.nodes),
             "heel_strike_nodes": settings.solver.heel_strike_nodes}  # fmt: skip
 
 
@@ -117,7 +114,6 @@ def _read(path: Path, mtime_ns: int) -> Atlas:
         settings=data["settings"], speeds=np.array([e["speed"] for e in entries]),
         periods=np.array([e["period"] for e in entries]),
         double_supports=np.array([e["double_support"] for e in entries]), x=x,
-        grid_ds_nodes=np.array([int(e["grid_ds_nodes"]) for e in entries]),
         fingerprint=data.get("fingerprint", {}), path=path,
     )  # fmt: skip
 
@@ -200,5 +196,4 @@ def _blend(atlas: Atlas, pairs: list[tuple[int, float]]) -> AtlasStart:
         double_support=float(blend(atlas.double_supports)),
         speeds=tuple(float(atlas.speeds[i]) for i, _ in pairs),
         weights=tuple(round(wt, 6) for _, wt in pairs), preset=atlas.preset,
-        grid_ds_nodes=int(atlas.grid_ds_nodes[max(pairs, key=lambda p: p[1])[0]]),
     )  # fmt: skip

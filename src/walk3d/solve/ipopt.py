@@ -96,7 +96,7 @@ def _z_from_x(solver: Solver, x: np.ndarray, s0: tuple[float, ...] | None = None
     if lay.n_s and s0 is not None:
         b = solver.nlp_bounds("free")
         s = np.clip(s0[: lay.n_s], b.lbz[lay.z("s")], b.ubz[lay.z("s")])
-        grid = descriptors.free_grid(solver.settings.solver.nodes, g.period, g.double_support)
+        grid = descriptors.free_grid(solver.settings.solver.nodes)
         z[lay.z("y")] = np.array(descriptors.lift_function(grid)(x, s)).ravel()
     else:
         z[lay.z("y")] = np.einsum("kij,j->ki", solver.lift, x).ravel()

@@ -65,22 +65,6 @@ def atlas_noise(seed: int, perturbation: float) -> np.ndarray:
     return noise
 
 
-def _on_grid_of(ref: PredictionSettings, start: atlas.AtlasStart) -> PredictionSettings:
-    """``ref`` with the first guess of its predicted descriptors set to ``start``'s, on the
-    grid its entry was solved on (:attr:`walk3d.solve.atlas.AtlasStart.grid_ds_nodes`): at an
-    entry's own speed the start is then that problem's optimum. Why: the free grid follows the
-    first guess (:func:`walk3d.problem.descriptors.free_grid`); on the grid of the entry's own
-    T and Td, one entry violated the node rows by 0.04 and took 120 iterations without
-    converging (docs/starts.md). The first guess of T sets the per-distance scale T0 / T, a
-    constant factor: the optimum does not depend on it."""
-    g = ref.gait
-    if not g.free:
-        return ref
-    td0 = descriptors.guess_for_grid(start.period, start.grid_ds_nodes, ref.solver.nodes)
-    update = {"period": start.period, "double_support": td0}
-    return ref.model_copy(update={"gait": g.model_copy(update=update)})
-
-
 def solve_from_atlas(
     settings: PredictionSettings,
     seed: int = 0,
@@ -98,12 +82,11 @@ def solve_from_atlas(
         return None
     noise = atlas_noise(seed, ref.solver.perturbation)
     limit = min(ATLAS_MAX_ITER, ref.solver.max_iter)
+    solver = build_solver(ref, method)
+    stage = _last_stage(solver, ref, "the atlas", limit)
+    g = ref.gait
     outcome = None
     for k, start in enumerate(found):
-        this_ref = _on_grid_of(ref, start)
-        solver = build_solver(this_ref, method)
-        stage = _last_stage(solver, this_ref, "the atlas", limit)
-        g = this_ref.gait
         s0 = tuple(getattr(start, n) if n in g.free else getattr(g, n) for n in descriptors.NAMES)
         if k:
             note(f"the atlas start did not converge: from its entry at {start.speeds[0]:.2f} m/s")
