@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from walk3d import G
 from walk3d.body.model import build_body
 from walk3d.io.osim import osim_xml, write_osim
 from walk3d.results.opensim import motion_columns
@@ -50,7 +51,7 @@ def test_the_file_is_an_opensim_4_document(tmp_path, model):
     path = write_osim(tmp_path / "model.osim", model)
     root = ET.parse(path).getroot()
     assert root.tag == "OpenSimDocument" and root.get("Version") == "40000"
-    assert root.find("Model/gravity").text.split() == ["0.0", "-9.81", "0.0"]
+    assert [float(v) for v in root.find("Model/gravity").text.split()] == [0.0, -G, 0.0]
     assert len(root.findall("Model/JointSet/objects/CustomJoint")) == 13
 
 

@@ -82,7 +82,7 @@ def test_drift_is_measured_within_each_foot_flat_period():
 
 
 def test_ranges_contain_the_predicted_motion_and_would_not_without_the_margin(monkeypatch):
-    from conftest import atlas_prediction
+    from verify_support import atlas_prediction
 
     from walk3d.results.osim_model import motion_extent, osim_model
 

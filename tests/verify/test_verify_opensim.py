@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import needs_opensim
+from verify_support import needs_opensim
 
 from walk3d.io.osim import write_osim
 from walk3d.results.opensim import motion_columns

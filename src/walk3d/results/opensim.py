@@ -36,8 +36,9 @@ PELVIS_COORDINATES = (
 )  # fmt: skip
 """The ground-pelvis coordinates written first (angles from the pelvis orientation's body-fixed
 Z-X-Y decomposition, see :func:`walk3d.results.angles.pelvis_angles`; translations are the
-pelvis frame origin, midway between the hip joint centres, which is not exactly where the
-Rajagopal pelvis origin lies)."""
+pelvis frame origin, midway between the hip joint centres: the pelvis origin of the folder's
+``model.osim``, not of the Rajagopal model, whose origin lies about 6 cm ahead of and 8 cm above
+its hip centres' midpoint; docs/opensim.md)."""
 
 
 def _both_sides(pairs: dict[str, str]) -> dict[str, str]:

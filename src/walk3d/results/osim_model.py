@@ -32,7 +32,6 @@ from typing import Any
 
 import numpy as np
 
-from walk3d import G
 from walk3d.body.model import MIRROR_POINT, BodyModel, Joint, build_body
 from walk3d.kinematics.rollover import RollOver
 from walk3d.results.opensim import OPENSIM_COORDINATES, motion_table
@@ -67,6 +66,10 @@ JOINT_NAMES = {
     "ankle_r": "ankle_r", "hip_l": "hip_l", "knee_l": "knee_l", "ankle_l": "ankle_l",
 }  # fmt: skip
 """walk3d joint -> OpenSim joint name."""
+
+GRAVITY = 9.81
+"""walk3d.G, m/s² (not imported: :mod:`walk3d` re-exports ``load_result`` lazily from
+:mod:`walk3d.results`, which writes this model; a test keeps the two equal)."""
 
 RANGE_MARGIN_DEG = 5.0
 """Each coordinate's range is walk3d's anatomical range widened by this much at both ends:
@@ -257,7 +260,7 @@ def osim_model(
                 _rotations(joint, extent),
             )
         )
-    return OsimModel(name, (0.0, -G, 0.0), tuple(bodies), tuple(joints))
+    return OsimModel(name, (0.0, -GRAVITY, 0.0), tuple(bodies), tuple(joints))
 
 
 def prediction_body(pred: Any) -> BodyModel:

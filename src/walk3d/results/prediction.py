@@ -60,8 +60,8 @@ RESULT_FILES = ("result.npz", "summary.json", "motion.mot", "grf.mot", "grf.xml"
 """The files every result folder has (:func:`check_complete` requires them)."""
 
 OPENSIM_FILES = ("model.osim", "inverse_dynamics.sto")
-"""Also written by :func:`save_prediction` since walk3d 0.1 (issue 26); folders written before
-lack them, so they are checked only where the manifest lists them."""
+"""Also written by :func:`save_prediction`; folders written before it wrote them lack them, so
+they are checked only where the manifest lists them."""
 
 MANIFEST = "manifest.json"
 """Written last into a result folder: every file's name and size in bytes."""

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from walk3d import G
 from walk3d.body.model import BodyModel
 from walk3d.io.storage import read_storage
 from walk3d.verify.compare import (
@@ -158,7 +159,7 @@ def verify_prediction(
         c: np.interp(t, theirs.time, theirs.data[:, k]) for k, c in enumerate(theirs.columns)
     }
     walk3d = {c: ours.data[:, k] for k, c in enumerate(ours.columns)}
-    weight = float(np.sum(pred.segment_mass)) * 9.81
+    weight = float(np.sum(pred.segment_mass)) * G
     whole = compare_generalized_forces(walk3d, opensim, weight)
     smooth = compare_generalized_forces(
         walk3d, opensim, weight, smooth_mask(pred.grf_force[:, :, 1])
