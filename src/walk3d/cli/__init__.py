@@ -3,8 +3,8 @@
 Bad input gives one clear error line on stderr and exit code 2. Commands live in
 :mod:`walk3d.cli.commands` (body, predict, compile, cache),
 :mod:`walk3d.cli.atlas_command`, :mod:`walk3d.cli.campaign_command`,
-:mod:`walk3d.cli.sweep_command` and
-:mod:`walk3d.cli.validation` (validate, calibrate);
+:mod:`walk3d.cli.sweep_command`,
+:mod:`walk3d.cli.validation` (validate, calibrate) and :mod:`walk3d.cli.verify_command`;
 shared options in :mod:`walk3d.cli.common`.
 """
 
@@ -21,6 +21,7 @@ from walk3d.cli import (  # noqa: F401  (register the commands)
     commands,
     sweep_command,
     validation,
+    verify_command,
 )
 from walk3d.cli.common import app, err_console, fail
 

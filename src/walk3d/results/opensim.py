@@ -26,6 +26,7 @@ __all__ = [
     "OPENSIM_COORDINATES",
     "PELVIS_COORDINATES",
     "motion_columns",
+    "motion_table",
     "write_grf",
     "write_motion",
 ]
@@ -35,8 +36,9 @@ PELVIS_COORDINATES = (
 )  # fmt: skip
 """The ground-pelvis coordinates written first (angles from the pelvis orientation's body-fixed
 Z-X-Y decomposition, see :func:`walk3d.results.angles.pelvis_angles`; translations are the
-pelvis frame origin, midway between the hip joint centres, which is not exactly where the
-Rajagopal pelvis origin lies)."""
+pelvis frame origin, midway between the hip joint centres: the pelvis origin of the folder's
+``model.osim``, not of the Rajagopal model, whose origin lies about 6 cm ahead of and 8 cm above
+its hip centres' midpoint; docs/opensim.md)."""
 
 
 def _both_sides(pairs: dict[str, str]) -> dict[str, str]:
@@ -95,21 +97,31 @@ def motion_columns(dof_names: tuple[str, ...] | list[str]) -> tuple[str, ...]:
     return PELVIS_COORDINATES + tuple(OPENSIM_COORDINATES.get(n, n) for n in dof_names)
 
 
+def motion_table(pred: Any) -> tuple[tuple[str, ...], np.ndarray]:
+    """The columns of :func:`write_motion` and their values ``(N, 6 + D)`` in SI units (rad, m).
+
+    The pelvis translation is walk3d's pelvis frame origin, midway between the hip joint
+    centres (``pred.pelvis_position``), not the Rajagopal model's pelvis origin.
+    """
+    pelvis = pelvis_angles(pred.segment_orientation[:, 0, :])
+    data = np.hstack([pelvis, pred.pelvis_position, pred.joint_angle])
+    return motion_columns(pred.dof_names), data
+
+
 def write_motion(path: str | PathLike[str], pred: Any, *, name: str = "walk3d") -> Path:
     """Write ``pred`` as an OpenSim coordinates file (``inDegrees=yes``), atomically.
 
     Columns: ``time`` (= ``pred.time``), :data:`PELVIS_COORDINATES` (angles in degrees,
     translations in m) and one column per DoF in ``pred.dof_names`` order, named by
-    :data:`OPENSIM_COORDINATES`, in degrees.
+    :data:`OPENSIM_COORDINATES`, in degrees (:func:`motion_table`).
 
     Returns:
         The path written.
     """
-    pelvis = pelvis_angles(pred.segment_orientation[:, 0, :])
-    data = np.hstack([np.degrees(pelvis), pred.pelvis_position, np.degrees(pred.joint_angle)])
-    return write_storage(
-        path, pred.time, motion_columns(pred.dof_names), data, name=name, in_degrees=True
-    )
+    columns, data = motion_table(pred)
+    angular = np.array([c not in PELVIS_COORDINATES[3:] for c in columns])
+    data = np.where(angular, np.degrees(data), data)
+    return write_storage(path, pred.time, columns, data, name=name, in_degrees=True)
 
 
 def write_grf(

@@ -12,7 +12,12 @@ and a JSON-ready ``summary`` dictionary. :func:`save_prediction` writes a result
 * ``summary.json``: the summary, indented, keys sorted;
 * ``motion.mot``: OpenSim coordinates in degrees (:func:`walk3d.results.opensim.write_motion`);
 * ``grf.mot`` and ``grf.xml``: ground reactions and their OpenSim ExternalLoads file
-  (:func:`walk3d.results.opensim.write_grf`).
+  (:func:`walk3d.results.opensim.write_grf`);
+* ``model.osim``: the OpenSim model of the subject's walk3d skeleton, on which ``motion.mot``
+  plays (:func:`walk3d.results.osim_model.osim_model`, :func:`walk3d.io.osim.write_osim`);
+* ``inverse_dynamics.sto``: walk3d's joint moments as that model's generalized forces, under
+  the names of OpenSim's InverseDynamicsTool
+  (:func:`walk3d.results.inverse_dynamics.write_inverse_dynamics`).
 
 * ``manifest.json``: written last, every file's name and size (:func:`check_complete`).
 
@@ -36,11 +41,15 @@ import numpy as np
 
 from walk3d.io._atomic import atomic_folder, atomic_write_bytes, atomic_write_text
 from walk3d.io.errors import DataFileError
+from walk3d.io.osim import write_osim
+from walk3d.results.inverse_dynamics import write_inverse_dynamics
 from walk3d.results.opensim import write_grf, write_motion
+from walk3d.results.osim_model import motion_extent, osim_model, prediction_body
 
 __all__ = [
     "MANIFEST",
     "Prediction",
+    "OPENSIM_FILES",
     "RESULT_FILES",
     "check_complete",
     "load_result",
@@ -48,7 +57,11 @@ __all__ = [
 ]
 
 RESULT_FILES = ("result.npz", "summary.json", "motion.mot", "grf.mot", "grf.xml")
-"""The files :func:`save_prediction` always writes into the result folder."""
+"""The files every result folder has (:func:`check_complete` requires them)."""
+
+OPENSIM_FILES = ("model.osim", "inverse_dynamics.sto")
+"""Also written by :func:`save_prediction`; folders written before it wrote them lack them, so
+they are checked only where the manifest lists them."""
 
 MANIFEST = "manifest.json"
 """Written last into a result folder: every file's name and size in bytes."""
@@ -207,6 +220,9 @@ def save_prediction(
         atomic_write_text(tmp / "summary.json", text + "\n")
         write_motion(tmp / "motion.mot", pred)
         write_grf(tmp / "grf.mot", pred, xml_path=tmp / "grf.xml")
+        body = prediction_body(pred)
+        write_osim(tmp / "model.osim", osim_model(body, motion_extent(pred)))
+        write_inverse_dynamics(tmp / "inverse_dynamics.sto", pred, body)
         if extra is not None:
             extra(tmp)
         files = {p.name: p.stat().st_size for p in sorted(tmp.iterdir()) if p.is_file()}
