@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from walk3d import __version__
+from walk3d.body.model import BodyModel
 from walk3d.io.errors import OutputWriteError
 from walk3d.problem import similarity, terms
 from walk3d.problem.settings import PredictionSettings, body_for
@@ -127,7 +128,7 @@ def predict(
     if out_dir is not None:
         if warm.is_alive():
             warm.join()  # Matplotlib's font objects are not for two threads at once
-        write_result(pred, out_dir, figure)
+        write_result(pred, out_dir, figure, body)
     return pred
 
 
@@ -141,8 +142,11 @@ def _warm_up_plots() -> None:
         pass
 
 
-def write_result(pred: Prediction, out_dir: str | Path, figure: bool = True) -> Path:
-    """Write the result folder atomically, with ``summary.png`` when ``figure``.
+def write_result(
+    pred: Prediction, out_dir: str | Path, figure: bool = True, body: BodyModel | None = None
+) -> Path:
+    """Write the result folder atomically, with ``summary.png`` when ``figure``; ``body`` is
+    the body model ``pred`` was evaluated with (default: rebuilt from its settings).
 
     Raises:
         OutputWriteError: the folder could not be written; nothing is left behind.
@@ -154,6 +158,6 @@ def write_result(pred: Prediction, out_dir: str | Path, figure: bool = True) -> 
         summary_figure(pred, folder / "summary.png")
 
     try:
-        return save_prediction(pred, out_dir, extra=add_figure if figure else None)
+        return save_prediction(pred, out_dir, extra=add_figure if figure else None, body=body)
     except OSError as exc:
         raise OutputWriteError(out_dir, exc) from exc

@@ -72,6 +72,19 @@ def test_a_stale_or_foreign_atlas_is_not_used(tmp_path):
     assert atlas.start_for(_ref(1.1, criterion="tor", friction=0.6), tmp_path)[0] is None
 
 
+def test_an_atlas_of_another_file_format_is_refused_with_the_reason(tmp_path):
+    _write(tmp_path, [1.0, 1.2])
+    path = atlas.atlas_path("male", "natural", tmp_path)
+    data = json.loads(path.read_text())
+    data["format"] = atlas.FORMAT - 1
+    path.write_text(json.dumps(data))
+    start, why = atlas.start_for(_ref(1.1), tmp_path)
+    assert start is None and "format" in why and "rebuild" in why
+    data["format"] = atlas.FORMAT  # negative control: the current format is used
+    path.write_text(json.dumps(data))
+    assert atlas.start_for(_ref(1.1), tmp_path)[0] is not None
+
+
 def test_noise_is_off_for_seed_0_and_bounded_otherwise():
     assert not atlas_noise_any(0)
     n = starts.atlas_noise(3, 0.02)
@@ -121,12 +134,39 @@ def test_an_atlas_entry_is_the_optimum_of_its_problem(monkeypatch):
     i = int(np.argmin(np.abs(a.speeds - 1.4)))
     entry = {"speed": float(a.speeds[i]), "period": float(a.periods[i]),
              "double_support": float(a.double_supports[i]), "x": a.x[i]}  # fmt: skip
-    assert violation(settings, entry) <= ENTRY_TOLERANCE
-    forget_solvers()
-    n_ds = descriptors.ds_intervals(settings.solver.nodes)
-    monkeypatch.setattr(descriptors, "ds_intervals", lambda nodes: n_ds + 1)
-    assert violation(settings, entry) > 0.01
-    forget_solvers()
+    try:
+        assert violation(settings, entry) <= ENTRY_TOLERANCE
+        forget_solvers()
+        n_ds = descriptors.ds_intervals(settings.solver.nodes)
+        monkeypatch.setattr(descriptors, "ds_intervals", lambda nodes: n_ds + 1)
+        assert violation(settings, entry) > 0.01
+    finally:
+        forget_solvers()  # no solver of the patched grid stays cached for later tests
+
+
+@pytest.mark.parametrize("free", [("period",), ("double_support",)])
+def test_a_given_descriptor_keeps_its_value_in_an_atlas_start(monkeypatch, free):
+    """With one descriptor predicted, the atlas start takes the entry's value of that one only;
+    the given one starts (and stays, by its equal bounds) at the user's value."""
+    seen = []
+
+    def fake_warm_stage(solver, stage, x, scale, on_stage, s0):
+        seen.append(s0)
+        return SimpleNamespace(converged=True, stages=[{}])
+
+    monkeypatch.setattr(starts, "warm_stage", fake_warm_stage)
+    monkeypatch.setattr(starts, "build_solver", lambda ref, method: SimpleNamespace(plan={}))
+    monkeypatch.setattr(starts, "_last_stage", lambda *a, **k: None)
+    settings = _ref(1.25, period=1.111, double_support=0.123, free=free)
+    starts.solve_from_atlas(settings)
+    (s0,) = seen
+    ref_start = atlas.start_for(_ref(1.25, free=free))[0]
+    given = "double_support" if free == ("period",) else "period"
+    k_given, k_free = (1, 0) if given == "double_support" else (0, 1)
+    assert s0[k_given] == pytest.approx(getattr(settings.gait, given))
+    assert s0[k_free] == pytest.approx(getattr(ref_start, free[0]))
+    # negative control: the entry's value of the given descriptor is another number
+    assert getattr(ref_start, given) != pytest.approx(getattr(settings.gait, given), abs=1e-3)
 
 
 def _outcome(converged, stages):

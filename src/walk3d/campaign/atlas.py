@@ -61,8 +61,8 @@ def fingerprint(settings: PredictionSettings, entry: dict) -> dict:
 
 
 ENTRY_TOLERANCE = 1e-6
-"""Largest constraint violation of an entry at its start (IPOPT's ``tol`` is 1e-8; an optimum
-of another grid violated the node rows by 0.04)."""
+"""Largest constraint violation of an entry at its start: IPOPT converges to 1e-8 (``tol``),
+so an entry that is its problem's optimum is well within it."""
 
 
 def violation(settings: PredictionSettings, entry: dict) -> float:

@@ -82,7 +82,11 @@ def show() -> None:
         t.add_column(col)
     for path in sorted(ATLAS_DIR.glob("*.json")):
         sex, preset = path.stem.split("-", 1)
-        a = load_atlas(sex, preset)
+        try:
+            a = load_atlas(sex, preset)
+        except (ValueError, KeyError, OSError) as exc:  # another format, or damaged
+            t.add_row(sex, preset, "-", "-", "-", f"no: rebuild ({exc})")
+            continue
         t.add_row(sex, preset, f"{a.speeds[0]:.2f}-{a.speeds[-1]:.2f}", str(len(a.speeds)),
                   str(a.solve_revision), "yes" if a.current else "no: rebuild")  # fmt: skip
     console.print(t)

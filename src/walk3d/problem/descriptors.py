@@ -87,11 +87,10 @@ class FreeGrid:
 
 
 DS_NODE_FRACTION = 0.1
-"""Share of the half cycle's intervals in double support, whatever T and Td: Winter's normal
-cadence (Td / T = 0.114 s / 1.140 s), where the grid is then as even as the paper's. Why fixed:
-the optimum depends strongly on it (at 1.2 m/s, 3 to 6 of 20 intervals gave 3.9 to 9.0 per
-metre, docs/descriptors.md), so a count that followed the first guess made the answer depend
-on the start."""
+"""Td / T at which the free grid is even: about Winter's normal cadence (0.114 s / 1.140 s).
+The double support gets ``round(2 N · 0.1)`` of the half cycle's N intervals whatever T and
+Td, so the problem does not depend on the first guess; the optimum depends strongly on that
+count (docs/descriptors.md)."""
 
 
 def ds_intervals(nodes: int) -> int:

@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from walk3d.body.model import BodyModel
 from walk3d.io._atomic import atomic_folder, atomic_write_bytes, atomic_write_text
 from walk3d.io.errors import DataFileError
 from walk3d.io.osim import write_osim
@@ -201,8 +202,10 @@ def save_prediction(
     pred: Prediction,
     out_dir: str | PathLike[str],
     extra: Callable[[Path], object] | None = None,
+    body: BodyModel | None = None,
 ) -> Path:
-    """Write the result folder of ``pred`` (see the module doc) as one atomic step.
+    """Write the result folder of ``pred`` (see the module doc) as one atomic step; ``body``
+    is the body model it was evaluated with (default: rebuilt from its settings).
 
     The files are built in a temporary sibling folder; ``extra(folder)`` may add more (the
     summary figure); ``manifest.json`` is written last and the folder is then renamed to
@@ -220,7 +223,7 @@ def save_prediction(
         atomic_write_text(tmp / "summary.json", text + "\n")
         write_motion(tmp / "motion.mot", pred)
         write_grf(tmp / "grf.mot", pred, xml_path=tmp / "grf.xml")
-        body = prediction_body(pred)
+        body = body or prediction_body(pred)
         write_osim(tmp / "model.osim", osim_model(body, motion_extent(pred)))
         write_inverse_dynamics(tmp / "inverse_dynamics.sto", pred, body)
         if extra is not None:

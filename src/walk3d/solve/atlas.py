@@ -145,7 +145,10 @@ def _find(ref: PredictionSettings, root: Path | None) -> tuple[Atlas | None, str
     lower optimum than 40 standing starts, docs/starts.md); or None and why."""
     preset = terms.preset_name(ref.model.criterion)
     for name in dict.fromkeys(p for p in (preset, terms.DEFAULT_PRESET) if p):
-        found = load_atlas(ref.gait.sex, name, root=root)
+        try:
+            found = load_atlas(ref.gait.sex, name, root=root)
+        except (ValueError, KeyError, OSError) as exc:  # another format, or damaged
+            return None, f"{exc}: rebuild it with `walk3d atlas build`"
         if found is not None:
             return found, ""
     return None, f"no atlas for {ref.gait.sex}"

@@ -159,9 +159,11 @@ def largest_drift(points: np.ndarray, mask: np.ndarray) -> float:
     """The largest distance between two positions of a point within one run of ``mask``, m.
 
     ``points`` ``(N, 3)``; each maximal run of consecutive ``True`` samples is one foot-flat
-    period (0 when there is none).
+    period (NaN when there is none: nothing was checked, which fails the bar).
     """
     mask = np.asarray(mask, bool)
+    if not mask.any():
+        return float("nan")
     worst = 0.0
     edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(int), [0]])))
     for start, stop in zip(edges[::2], edges[1::2], strict=True):

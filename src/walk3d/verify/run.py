@@ -79,7 +79,7 @@ class Verification:
     notes: list[str] = field(default_factory=list)
 
     def passes(self, bars: Bars = BARS) -> bool:
-        drift = all(d < bars.drift_max_m for d in self.drift_m.values())
+        drift = all(d < bars.drift_max_m for d in self.drift_m.values())  # NaN fails
         return self.whole.passes(bars) and drift
 
 
@@ -109,12 +109,13 @@ def _run_worker(spec: dict, workdir: Path, timeout: float) -> None:
         raise OpenSimMissing()
     path = workdir / "spec.json"
     path.write_text(json.dumps(spec), encoding="utf-8")
-    src = str(Path(__file__).resolve().parents[2])
+    src = str(Path(__file__).resolve().parents[2])  # where this walk3d is imported from
     env = dict(os.environ, OPENBLAS_NUM_THREADS=os.environ.get("OPENBLAS_NUM_THREADS", "1"))
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (src, env.get("PYTHONPATH")) if p)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (env.get("PYTHONPATH"), src) if p)
     done = subprocess.run(
         [sys.executable, "-m", "walk3d.verify.worker", str(path)],
-        cwd=workdir, env=env, capture_output=True, text=True, timeout=timeout, check=False,
+        cwd=workdir, env=env, capture_output=True, text=True, errors="replace",
+        timeout=timeout, check=False,
     )  # fmt: skip
     if done.returncode != 0:
         lines = [ln for ln in (done.stderr or done.stdout).splitlines() if ln.strip()]
@@ -193,10 +194,10 @@ def verify_folder(folder: str | PathLike[str], *, timeout: float = 300.0) -> Ver
     from walk3d.results.osim_model import motion_extent, osim_model, prediction_body
     from walk3d.results.prediction import load_result
 
-    if not opensim_available():
-        raise OpenSimMissing()
     out = Path(folder)
     pred = load_result(out)
+    if not opensim_available():
+        raise OpenSimMissing()
     body = prediction_body(pred)
     model, sto = out / "model.osim", out / "inverse_dynamics.sto"
     with tempfile.TemporaryDirectory(prefix="walk3d-files-") as tmp:
