@@ -31,8 +31,8 @@ if TYPE_CHECKING:
 __all__ = ["AnimationFrames", "animation_frames", "segment_landmarks"]
 
 LOADED_FRACTION = 0.01
-"""A foot is loaded (its arrow drawn) while its vertical force exceeds this share of body
-weight and its centre of pressure is defined."""
+"""A foot is loaded (its arrow drawn) between two samples whose vertical force exceeds this
+share of body weight and whose centre of pressure is defined."""
 
 SOLE_SAMPLES = 33
 
@@ -206,7 +206,12 @@ def animation_frames(
     weight = float(np.sum(pred.segment_mass)) * G
     force = lerp(pred.grf_force, False)
     cop = lerp(pred.grf_cop, True)
-    loaded = np.all(np.isfinite(cop), axis=-1) & (force[..., 1] > LOADED_FRACTION * weight)
+    # loaded where both neighbouring samples are: at a touch-down sample the force is small
+    # and its centre of pressure (moment / force) not yet meaningful
+    on = np.all(np.isfinite(pred.grf_cop), axis=-1) & (
+        pred.grf_force[..., 1] > LOADED_FRACTION * weight
+    )
+    loaded = on[a] & on[b]
     cop = np.where(loaded[..., None], cop, np.nan)
     tip = cop + force * (grf_scale / weight)
     return AnimationFrames(
