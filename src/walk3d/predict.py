@@ -103,11 +103,12 @@ def predict(
     figure: bool = True,
     on_stage: Callable[[str], None] | None = None,
     warm_from: np.ndarray | None = None,
+    animate: bool = False,
 ) -> Prediction:
     """Predict one gait cycle; write the result folder when ``out_dir`` is given.
     ``warm_from``: another prediction's decision vector (the subject's, ``summary.json``'s
     ``coefficients``) to start from instead of standing (:func:`walk3d.solve.starts.solve_warm`;
-    the settings must predict a descriptor)."""
+    the settings must predict a descriptor). ``animate``: also write ``animation.mp4``."""
     from walk3d.solve import run_solver
     from walk3d.solve.starts import solve_warm
 
@@ -128,7 +129,7 @@ def predict(
     if out_dir is not None:
         if warm.is_alive():
             warm.join()  # Matplotlib's font objects are not for two threads at once
-        write_result(pred, out_dir, figure, body)
+        write_result(pred, out_dir, figure, body, animate=animate)
     return pred
 
 
@@ -143,21 +144,31 @@ def _warm_up_plots() -> None:
 
 
 def write_result(
-    pred: Prediction, out_dir: str | Path, figure: bool = True, body: BodyModel | None = None
+    pred: Prediction,
+    out_dir: str | Path,
+    figure: bool = True,
+    body: BodyModel | None = None,
+    animate: bool = False,
 ) -> Path:
-    """Write the result folder atomically, with ``summary.png`` when ``figure``; ``body`` is
-    the body model ``pred`` was evaluated with (default: rebuilt from its settings).
+    """Write the result folder atomically, with ``summary.png`` when ``figure`` and
+    ``animation.mp4`` (two cycles, :func:`walk3d.plots.write_animation`) when ``animate``, both
+    listed in the manifest; ``body`` is the body model ``pred`` was evaluated with (default:
+    rebuilt from its settings).
 
     Raises:
         OutputWriteError: the folder could not be written; nothing is left behind.
     """
 
     def add_figure(folder: Path) -> None:
-        from walk3d.plots import summary_figure
+        from walk3d.plots import summary_figure, write_animation
 
-        summary_figure(pred, folder / "summary.png")
+        if figure:
+            summary_figure(pred, folder / "summary.png")
+        if animate:
+            write_animation(pred, folder / "animation.mp4", body=body)
 
     try:
-        return save_prediction(pred, out_dir, extra=add_figure if figure else None, body=body)
+        extra = add_figure if figure or animate else None
+        return save_prediction(pred, out_dir, extra=extra, body=body)
     except OSError as exc:
         raise OutputWriteError(out_dir, exc) from exc

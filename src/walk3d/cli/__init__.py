@@ -4,7 +4,8 @@ Bad input gives one clear error line on stderr and exit code 2. Commands live in
 :mod:`walk3d.cli.commands` (body, predict, compile, cache),
 :mod:`walk3d.cli.atlas_command`, :mod:`walk3d.cli.campaign_command`,
 :mod:`walk3d.cli.sweep_command`,
-:mod:`walk3d.cli.validation` (validate, calibrate) and :mod:`walk3d.cli.verify_command`;
+:mod:`walk3d.cli.validation` (validate, calibrate), :mod:`walk3d.cli.verify_command` and
+:mod:`walk3d.cli.animate_command`;
 shared options in :mod:`walk3d.cli.common`.
 """
 
@@ -16,6 +17,7 @@ import sys
 import typer
 
 from walk3d.cli import (  # noqa: F401  (register the commands)
+    animate_command,
     atlas_command,
     campaign_command,
     commands,

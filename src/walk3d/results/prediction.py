@@ -54,6 +54,7 @@ __all__ = [
     "RESULT_FILES",
     "check_complete",
     "load_result",
+    "record_file",
     "save_prediction",
 ]
 
@@ -258,6 +259,22 @@ def check_complete(out_dir: str | PathLike[str]) -> None:
             raise DataFileError(
                 f, f"incomplete result file: {f.stat().st_size} bytes, manifest says {files[name]}"
             )
+
+
+def record_file(out_dir: str | PathLike[str], name: str) -> None:
+    """List (or update) ``out_dir/name``'s size in a complete result folder's manifest, after
+    an optional file such as ``animation.mp4`` was (re)written there, so that
+    :func:`check_complete` keeps accepting the folder. The manifest is rewritten atomically.
+
+    Raises:
+        DataFileError: the folder is not complete apart from ``name``.
+    """
+    out = Path(out_dir)
+    path = out / MANIFEST
+    manifest = json.loads(path.read_text(encoding="utf-8"))
+    manifest["files"][name] = (out / name).stat().st_size
+    atomic_write_text(path, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
+    check_complete(out)
 
 
 def load_result(out_dir: str | PathLike[str]) -> Prediction:

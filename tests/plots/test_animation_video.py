@@ -1,0 +1,78 @@
+"""animation.mp4: readable back, the right frame count and size, not blank, moving; walk3d
+animate's bad input gives one line and exit code 2."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import imageio.v2 as imageio
+import numpy as np
+import pytest
+
+from walk3d.plots.video import FRAME_SIZE, write_animation
+
+FPS = 10
+
+
+def _frames(path):
+    with imageio.get_reader(path) as reader:
+        return np.array([np.asarray(f) for f in reader])
+
+
+def _looks_animated(frames) -> bool:
+    return bool(frames.std() > 0 and np.abs(np.diff(frames.astype(float), axis=0)).max() > 0)
+
+
+def test_video_reads_back(atlas_result, tmp_path):
+    pred, body, _ = atlas_result
+    out = write_animation(pred, tmp_path / "walk.mp4", cycles=1, fps=FPS, body=body)
+    assert [p.name for p in tmp_path.iterdir()] == ["walk.mp4"]  # no temporary left
+    frames = _frames(out)
+    period = float(pred.time[-1] - pred.time[0])
+    assert abs(len(frames) - period * FPS) <= 1
+    assert frames.shape[1:] == (FRAME_SIZE[1], FRAME_SIZE[0], 3)
+    assert _looks_animated(frames)
+    # negative controls: a blank video and a still one are told apart
+    assert not _looks_animated(np.full_like(frames, 255))
+    assert not _looks_animated(np.repeat(frames[:1], len(frames), axis=0))
+
+
+def _animate(*args):
+    env = os.environ | {"MPLBACKEND": "Agg"}
+    cmd = [sys.executable, "-m", "walk3d.cli", "animate", *map(str, args)]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=120, env=env)
+
+
+@pytest.mark.parametrize("case", ["missing", "no_manifest", "bad_out"])
+def test_cli_bad_input_one_line_exit_2(atlas_result, tmp_path, case):
+    _, _, folder = atlas_result
+    if case == "missing":
+        r = _animate(tmp_path / "none")
+    elif case == "no_manifest":
+        broken = tmp_path / "broken"
+        broken.mkdir()
+        (broken / "summary.json").write_text(json.dumps({}))
+        r = _animate(broken)
+    else:
+        r = _animate(folder, "--out", tmp_path / "walk.avi")
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("walk3d: error:"), r.stderr
+    assert not list(tmp_path.glob("**/*.mp4"))
+
+
+def test_cli_writes_into_the_folder_and_its_manifest(atlas_result, tmp_path):
+    import shutil
+
+    from walk3d.results.prediction import check_complete
+
+    folder = tmp_path / "result"
+    shutil.copytree(atlas_result[2], folder)
+    r = _animate(folder, "--cycles", 1, "--fps", 5)
+    assert r.returncode == 0, r.stderr
+    files = json.loads((folder / "manifest.json").read_text())["files"]
+    assert files["animation.mp4"] == (folder / "animation.mp4").stat().st_size
+    check_complete(folder)
