@@ -16,7 +16,9 @@ Run it alone on the machine, with the derivatives compiled (``walk3d compile --s
 * ``random``: the paper's subject and descriptors (default criterion), 20 campaign starts
   with the default strategy (bar: ≥ 95 % walk) and 20 standing starts, the paper's method
   (aim 90 %).
-* ``hundred``: a 100-start campaign on 2 local workers (bar: ≤ 10 min).
+* ``hundred``: a 100-start campaign on 2 local workers (bar: ≤ 10 min), the paper's subject
+  and descriptors; ``hundred_default`` (not in the default parts): the same with
+  ``walk3d campaign``'s defaults, T and Td predicted.
 
 Folders go to ``benchmarks/runs/starts/`` (git-ignored; reused unless ``--fresh``); the table
 and the environment to ``benchmarks/runs/starts-<stamp>.json``.
@@ -46,6 +48,8 @@ PAPER_SUBJECT = ["--speed", "1.3806", "--period", "1.08", "--double-support", "0
                  "--mass", "68.8", "--height", "1.77", "--sex", "male"]  # fmt: skip
 """The paper's subject and descriptors under the default criterion (``--paper`` would also
 set the paper's C_tor)."""
+PAPER_BODY = ["--speed", "1.3806", "--mass", "68.8", "--height", "1.77", "--sex", "male"]
+"""The paper's subject and speed with ``walk3d campaign``'s defaults: T and Td predicted."""
 SUBJECTS = {"man": ("male", 82.0, 1.85), "woman": ("female", 58.0, 1.60)}
 """Two statures and both sexes: a tall man and a short woman (kg, m)."""
 SPEEDS = (0.8, 1.0, 1.2, 1.4, 1.6, 1.8)
@@ -191,9 +195,13 @@ def part_random(fresh: bool) -> dict:
     return out
 
 
-def part_hundred(fresh: bool) -> dict:
-    ranking, wall = _campaign(ROOT / "hundred", PAPER_SUBJECT, 100, True)
-    out = {"wall_s": wall, "walk_share": _share(ranking), "starts": len(ranking)}
+def part_hundred(fresh: bool, given: bool = True) -> dict:
+    """100 starts on the paper's subject: with its T and Td given (``given``), or with
+    ``walk3d campaign``'s defaults (T and Td predicted)."""
+    args = PAPER_SUBJECT if given else PAPER_BODY
+    ranking, wall = _campaign(ROOT / ("hundred" if given else "hundred_default"), args, 100, True)
+    out = {"wall_s": wall, "walk_share": _share(ranking), "starts": len(ranking),
+           "descriptors": "given" if given else "predicted"}  # fmt: skip
     print("100 starts", out, flush=True)
     return out
 
@@ -223,6 +231,8 @@ def main(argv: list[str] | None = None) -> int:
         result["random"] = part_random(args.fresh)
     if "hundred" in parts:
         result["hundred"] = part_hundred(args.fresh)
+    if "hundred_default" in parts:
+        result["hundred_default"] = part_hundred(args.fresh, given=False)
     path = environment.output_path(args, NAME)
     environment.write(path, result)
     print(f"written {path}")
