@@ -28,7 +28,7 @@ def run_one(speed: float, count: int) -> dict:
     import numpy as np
 
     from walk3d.campaign.atlas import atlas_settings
-    from walk3d.predict import body_for, with_predicted
+    from walk3d.pipeline import body_for, with_predicted
     from walk3d.problem import descriptors
     from walk3d.results.evaluate import evaluate_cycle
     from walk3d.solve.atlas import load_atlas

@@ -12,7 +12,7 @@ pytestmark = pytest.mark.slow
 
 @pytest.fixture(scope="module")
 def prediction(tmp_path_factory):
-    from walk3d.predict import predict
+    from walk3d.pipeline import predict
 
     out = tmp_path_factory.mktemp("pred")
     return predict(PredictionSettings(), seed=0, out_dir=out), out
@@ -71,3 +71,15 @@ def test_looks_like_walking(prediction):
     # and the summary's verdict agrees, with the hip upright in stance (not the crouched optima)
     g = pred.summary["gait_checks"]
     assert g["looks_like_walking"] and g["hip_stance_max_deg"] < 45.0, g
+
+
+def test_python_api_predicts_another_subject(tmp_path):
+    """The README's example: ``walk3d.predict`` with only a speed and a body, then the table."""
+    import walk3d
+
+    pred = walk3d.predict(speed=1.2, mass=75.0, height=1.8, sex="female", out=tmp_path / "p")
+    assert pred.converged and pred.summary["gait_checks"]["looks_like_walking"]
+    assert set(pred.descriptors["predicted"]) == {"period", "double_support"}
+    df = pred.to_dataframe()
+    assert df["knee_flexion_r_deg"].max() > 40.0
+    assert walk3d.load_result(tmp_path / "p").summary["converged"]

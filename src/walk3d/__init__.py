@@ -9,14 +9,17 @@ Conventions used everywhere in the package (see ``docs/conventions.md``):
 * time is the first axis of every array.
 """
 
-__version__ = "0.1.0"
+from walk3d.constants import G, __version__
 
-G = 9.81
-"""Gravitational acceleration magnitude, m/s^2. Gravity is ``(0, -G, 0)`` in the global frame."""
+__all__ = ["G", "Prediction", "__version__", "load_result", "predict"]
+
+_API = ("Prediction", "load_result", "predict")
 
 
-def load_result(out_dir):  # noqa: ANN001, ANN201 - thin lazy re-export
-    """Read a prediction folder written by ``walk3d predict`` (see :mod:`walk3d.results`)."""
-    from walk3d.results import load_result as _load
+def __getattr__(name: str):  # noqa: ANN202 - lazy: ``import walk3d`` stays light for the CLI
+    """``predict``, ``load_result`` and ``Prediction`` from :mod:`walk3d.api`, on first use."""
+    if name in _API:
+        from walk3d import api
 
-    return _load(out_dir)
+        return getattr(api, name)
+    raise AttributeError(f"module 'walk3d' has no attribute {name!r}")

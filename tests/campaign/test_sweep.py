@@ -90,7 +90,7 @@ def test_a_failed_warm_start_goes_through_the_speed_halfway(monkeypatch):
     """The continuation logic on scripted solves: a warm start walks only across steps of at
     most 0.05 m/s, so 1.1 -> 1.0 goes through 1.05, and 1.1 -> 0.9 with one halving left fails
     (the sweep then solves from standing)."""
-    import walk3d.predict as predict_module
+    import walk3d.pipeline as predict_module
     from walk3d.campaign import sweep as sweep_module
 
     class Fake:
@@ -123,7 +123,7 @@ def test_a_failed_warm_start_goes_through_the_speed_halfway(monkeypatch):
 def test_the_second_pass_keeps_the_better_of_two_neighbours_starts(tmp_path, monkeypatch):
     """Scripted: each speed solved once more from its other neighbour keeps the lower criterion
     per metre; what was tried is recorded, so a resumed sweep does not try it again."""
-    import walk3d.predict as predict_module
+    import walk3d.pipeline as predict_module
     from walk3d.campaign import sweep as sweep_module
 
     def summary(v, value, stride=1.0):

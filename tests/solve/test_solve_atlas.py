@@ -197,7 +197,7 @@ def test_a_failed_atlas_start_falls_back_to_standing(monkeypatch):
 
 def test_a_prediction_from_the_atlas_walks_in_few_iterations():
     """The default prediction's path: the atlas's starts, the full problem alone."""
-    from walk3d.predict import predict
+    from walk3d.pipeline import predict
 
     settings = PredictionSettings(
         mass=62.0,

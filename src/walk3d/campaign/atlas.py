@@ -16,7 +16,7 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-from walk3d import __version__
+from walk3d.constants import __version__
 from walk3d.io._atomic import atomic_write_text
 from walk3d.problem import descriptors, similarity, terms
 from walk3d.problem.settings import PredictionSettings

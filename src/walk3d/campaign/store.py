@@ -26,7 +26,7 @@ import shutil
 from pathlib import Path
 from typing import Any
 
-from walk3d import __version__
+from walk3d.constants import __version__
 from walk3d.io._atomic import (
     TMP_PREFIX,
     atomic_folder,

@@ -146,7 +146,7 @@ def _warm(settings, prev: dict, v: float, seed: int, solver: str, note, depth: i
     not walk even through ``depth`` halvings of the speed step (each intermediate speed is
     solved the same way and only its solution kept). The result's summary gets ``sweep``:
     the speed it came from, the speeds in between and their iterations and solve time."""
-    from walk3d.predict import predict
+    from walk3d.pipeline import predict
 
     d = prev["descriptors"]
     pred = predict(_at_speed(settings, v, (d["period"], d["double_support"])), seed, solver,
@@ -188,7 +188,7 @@ def _second_pass(settings, speeds, out, summaries, first_from, seed, solver, on_
     not, or its criterion per metre is lower (the better of two local optima, as a campaign
     keeps its best start). What was tried is kept in ``second_pass.json``, so a resumed sweep
     does not try it again."""
-    from walk3d.predict import write_result
+    from walk3d.pipeline import write_result
     from walk3d.solve.solver import forget_solvers
 
     path = out / "second_pass.json"
@@ -270,7 +270,7 @@ def run_sweep(
 ) -> SweepReport:
     """Predict at each speed (module doc) and write the folder; ``on_progress(message, done,
     total)`` after each speed and ``(message, done, total)`` with solver messages meanwhile."""
-    from walk3d.predict import predict, write_result
+    from walk3d.pipeline import predict, write_result
     from walk3d.results.prediction import load_result
     from walk3d.solve.solver import forget_solvers
 

@@ -1,7 +1,7 @@
 """The work of one start, run inside a (long-lived) Dask worker process.
 
 A task receives only plain data (the settings as a dict, the seed, the solver name and the
-``starts`` folder) and calls :func:`walk3d.predict.predict`, whose compiled model is cached per
+``starts`` folder) and calls :func:`walk3d.pipeline.predict`, whose compiled model is cached per
 process, so each worker builds the model once and reuses it for every start it runs. The task
 writes its own result folder (see :mod:`walk3d.campaign.store`), so a finished start is on disk
 even if the client dies; with a remote ``--scheduler`` the workers must therefore see the
@@ -171,7 +171,7 @@ def run_start(settings_dict: dict, seed: int, solver: str, starts_dir: str) -> d
     t0 = time.perf_counter()
     tmp = temporary_sibling(root, store.start_name(seed))  # predict builds it atomically
     try:
-        from walk3d import predict as predict_module
+        from walk3d import pipeline as predict_module
         from walk3d.problem.settings import PredictionSettings
 
         _test_hooks(seed)

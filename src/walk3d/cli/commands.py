@@ -200,7 +200,7 @@ def predict(
         **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.io.errors import OutputWriteError
-    from walk3d.predict import predict as run
+    from walk3d.pipeline import predict as run
 
     try:
         with console.status("walk3d: starting") as status:

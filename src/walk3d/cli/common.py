@@ -205,21 +205,13 @@ def check_output_folder(path: str, option: str = "--out", replaces: str | None =
 
 
 def criterion_option(value: str) -> str:
-    """``--criterion``: a TOML file's weights inline, or the value itself; one line and exit 2
-    when the file cannot be read or the criterion is not valid."""
-    from walk3d.io.criterion import read_criterion
-    from walk3d.io.errors import DataFileError
-    from walk3d.problem import terms
+    """``--criterion``: :func:`walk3d.api.criterion_value`, or one line and exit 2."""
+    from walk3d.api import criterion_value
 
-    if value.lower().endswith(".toml"):
-        try:
-            value = read_criterion(value)
-        except DataFileError as exc:
-            fail(f"--criterion {exc}")
     try:
-        return terms.canonical(value)
+        return criterion_value(value)
     except ValueError as exc:
-        fail(f"--criterion: {exc}")
+        fail(f"--{exc}")
     raise AssertionError  # fail() exits
 
 
@@ -251,20 +243,17 @@ def _descriptor(value: str | float, option: str) -> float | None:
 def gait_fields(
     speed: float, period: str | float, double_support: str | float, height: float
 ) -> dict:
-    """``speed``, ``period``, ``double_support`` and ``free`` settings fields: ``auto``
-    descriptors are predicted from a first guess (:mod:`walk3d.problem.descriptors`); one
-    error line and exit 2 for a value that is neither a number nor auto."""
-    from walk3d.problem.descriptors import auto_descriptors
+    """``speed``, ``period``, ``double_support`` and ``free`` settings fields
+    (:func:`walk3d.api.gait_fields`; ``auto`` descriptors are predicted); one error line and
+    exit 2 for a value that is neither a number nor auto."""
+    from walk3d.api import gait_fields as fields
 
-    t = _descriptor(period, "--period")
-    td = _descriptor(double_support, "--double-support")
-    if not (0 < speed <= 4.0 and 1.0 <= height <= 2.4):
-        return {"speed": speed, "period": t or 1.0, "double_support": td or 0.1}  # refused later
     try:
-        t, td, free = auto_descriptors(speed, height, t, td)
+        return fields(speed, _descriptor(period, "--period"),
+                      _descriptor(double_support, "--double-support"), height)  # fmt: skip
     except ValueError as exc:
         fail(str(exc))
-    return {"speed": speed, "period": t, "double_support": td, "free": free}
+    raise AssertionError  # fail() exits
 
 
 def settings_from_options(criterion: str, solver: str, seed: int, **fields):

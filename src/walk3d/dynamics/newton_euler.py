@@ -19,8 +19,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from walk3d import G
 from walk3d.body.model import BodyModel
+from walk3d.constants import G
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import Pose
 from walk3d.kinematics.quaternion import V, vadd, vcross, vscale, vsub

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from walk3d import G
+from walk3d.constants import G
 from walk3d.kinematics import quaternion
 
 if TYPE_CHECKING:

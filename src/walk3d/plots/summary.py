@@ -14,16 +14,17 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from walk3d import G
+from walk3d.constants import G
 from walk3d.io._atomic import atomic_write
 from walk3d.results.angles import pelvis_angles
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
     from walk3d.results.prediction import Prediction
 
-__all__ = ["summary_figure", "warm_up"]
+__all__ = ["summary_figure", "summary_plot", "warm_up"]
 
 _RIGHT = {"color": "tab:red", "label": "right"}
 _LEFT = {"color": "tab:blue", "label": "left"}
@@ -158,7 +159,7 @@ def _draw(pred: Prediction, figsize: Sequence[float], dpi: float):
 
 def warm_up() -> None:
     """Import Matplotlib and render a small figure with text, so that its fonts and caches are
-    loaded. About 0.6 s; :func:`walk3d.predict.predict` runs it in a thread while IPOPT
+    loaded. About 0.6 s; :func:`walk3d.pipeline.predict` runs it in a thread while IPOPT
     iterates (CasADi releases the GIL), which takes it off the end-to-end time."""
     import io
 
@@ -177,6 +178,14 @@ def _draw_blank():
     ax.set_title("walk3d", fontsize=9)
     ax.legend(["line"], fontsize=7)
     return fig
+
+
+def summary_plot(
+    pred: Prediction, *, figsize: Sequence[float] = (11.0, 11.0), dpi: float = 100.0
+) -> Figure:
+    """The figure :func:`summary_figure` saves, as a Matplotlib Figure (not attached to pyplot,
+    so nothing is shown unless asked)."""
+    return _draw(pred, figsize, dpi)
 
 
 def summary_figure(

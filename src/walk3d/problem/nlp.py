@@ -27,8 +27,8 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from walk3d import G
 from walk3d.body.model import BodyModel
+from walk3d.constants import G
 from walk3d.contact.support import foot_points, support_rows
 from walk3d.contact.transition import ratio_map
 from walk3d.problem import layout, terms

@@ -40,9 +40,9 @@ from typing import Any
 
 import numpy as np
 
-from walk3d import G
 from walk3d import mathops as mo
 from walk3d.body.model import BodyModel
+from walk3d.constants import G
 from walk3d.kinematics import fourier
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import Pose

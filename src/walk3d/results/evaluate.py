@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from walk3d import G
 from walk3d.body.model import BodyModel
+from walk3d.constants import G
 from walk3d.contact.phases import GaitPhases
 from walk3d.contact.transition import apply_ratios, centre_of_pressure
 from walk3d.kinematics import quaternion as qt

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from walk3d import G
+from walk3d.constants import G
 from walk3d.contact.phases import GaitPhases
 
 KNEE_SWING_MIN_DEG = 40.0

@@ -27,13 +27,14 @@ rotations before it), matching how ``motion.mot``'s angles are computed
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from walk3d.body.model import MIRROR_POINT, BodyModel, Joint, build_body
-from walk3d.kinematics.rollover import RollOver
+from walk3d.body.model import MIRROR_POINT, BodyModel, Joint
+from walk3d.constants import G
+from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.opensim import OPENSIM_COORDINATES, motion_table
 
 __all__ = [
@@ -67,9 +68,6 @@ JOINT_NAMES = {
 }  # fmt: skip
 """walk3d joint -> OpenSim joint name."""
 
-GRAVITY = 9.81
-"""walk3d.G, m/s² (not imported: :mod:`walk3d` re-exports ``load_result`` lazily from
-:mod:`walk3d.results`, which writes this model; a test keeps the two equal)."""
 
 RANGE_MARGIN_DEG = 5.0
 """Each coordinate's range is walk3d's anatomical range widened by this much at both ends:
@@ -260,27 +258,19 @@ def osim_model(
                 _rotations(joint, extent),
             )
         )
-    return OsimModel(name, (0.0, -GRAVITY, 0.0), tuple(bodies), tuple(joints))
+    return OsimModel(name, (0.0, -G, 0.0), tuple(bodies), tuple(joints))
 
 
 def prediction_body(pred: Any) -> BodyModel:
     """The body model a prediction was evaluated with.
 
-    From ``pred.summary["settings"]``: ``gait`` mass, height and sex (the paper's subject,
-    68.8 kg, 1.77 m, male, where absent) and ``model``'s calibrated roll-over, if any, as
-    :func:`walk3d.problem.settings.body_for` builds it.
+    :func:`walk3d.problem.settings.body_for` of ``pred.summary["settings"]`` (the defaults,
+    the paper's subject, where absent).
 
     Raises:
         ValueError: the prediction's segment masses are not that body's.
     """
-    settings = pred.summary.get("settings") or {}
-    gait, model = settings.get("gait") or {}, settings.get("model") or {}
-    body = build_body(
-        float(gait.get("mass", 68.8)), float(gait.get("height", 1.77)), gait.get("sex", "male")
-    )
-    if model.get("rollover_s") is not None:
-        ro = RollOver.from_samples(np.array(model["rollover_s"]), np.array(model["rollover_ankle"]))
-        body = replace(body, rollover=ro)
+    body = body_for(PredictionSettings.model_validate(pred.summary.get("settings") or {}))
     masses = np.array([s.mass for s in body.segments])
     if masses.shape != pred.segment_mass.shape or not np.allclose(
         masses, pred.segment_mass, rtol=1e-9, atol=0.0

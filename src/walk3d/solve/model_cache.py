@@ -39,7 +39,7 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-import walk3d
+from walk3d import constants
 from walk3d.io._atomic import atomic_write_text
 
 __all__ = ["SCHEMA", "cache_dir", "cache_enabled", "cache_entries", "cache_usage",
@@ -107,7 +107,7 @@ def _feed(h, obj: object) -> None:
 def _source_digest() -> str:
     """SHA-256 of walk3d's own source and data files: the functions are built by this code,
     and a development checkout changes it without changing the version (a few ms)."""
-    root = Path(walk3d.__file__).resolve().parent
+    root = Path(constants.__file__).resolve().parent
     h = hashlib.sha256()
     for p in sorted(root.rglob("*")):
         if p.suffix in {".py", ".toml"} and p.is_file():
@@ -120,7 +120,7 @@ def model_key(model_settings: object, body: object) -> str:
     """Hex key of an entry: the settings that shape the functions, the body model, the schema,
     the casadi and walk3d versions and walk3d's source files."""
     h = hashlib.sha256()
-    for part in (SCHEMA, ca.__version__, walk3d.__version__, _source_digest(), model_settings,
+    for part in (SCHEMA, ca.__version__, constants.__version__, _source_digest(), model_settings,
                  body):  # fmt: skip
         _feed(h, part)
     return h.hexdigest()[:32]

@@ -47,8 +47,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from walk3d import __version__
 from walk3d.body.model import BodyModel
+from walk3d.constants import __version__
 from walk3d.contact.phases import GaitPhases
 from walk3d.kinematics import fourier
 from walk3d.kinematics import quaternion as qt

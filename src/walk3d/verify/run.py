@@ -28,8 +28,8 @@ from typing import Any
 
 import numpy as np
 
-from walk3d import G
 from walk3d.body.model import BodyModel
+from walk3d.constants import G
 from walk3d.io.storage import read_storage
 from walk3d.verify.compare import (
     BARS,

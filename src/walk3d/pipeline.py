@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from walk3d import __version__
 from walk3d.body.model import BodyModel
+from walk3d.constants import __version__
 from walk3d.io.errors import OutputWriteError
 from walk3d.problem import similarity, terms
 from walk3d.problem.settings import PredictionSettings, body_for

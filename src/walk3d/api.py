@@ -1,0 +1,186 @@
+"""The Python API: ``walk3d.predict(speed=...)`` returns a :class:`Prediction` that can be
+tabulated (``to_dataframe``), plotted and saved; ``walk3d.load_result(DIR)`` reads one back.
+
+Defaults are those of ``walk3d predict``: the paper's subject (68.8 kg, 1.77 m, male) at its
+speed, T and Td predicted with the gait, the ``natural`` criterion, started from the atlas.
+Bad input raises :class:`ValueError` with one line that names the input.
+"""
+
+from __future__ import annotations
+
+import sys
+import warnings
+from collections.abc import Callable
+from dataclasses import fields
+from os import PathLike
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from walk3d.results.prediction import Prediction as _Prediction
+from walk3d.results.prediction import load_result as _load_result
+
+if TYPE_CHECKING:
+    import pandas
+    from matplotlib.figure import Figure
+
+    from walk3d.problem.settings import PredictionSettings
+
+__all__ = ["Prediction", "criterion_value", "gait_fields", "load_result", "predict", "settings"]
+
+_AXES = "xyz"
+
+
+class Prediction(_Prediction):
+    """A predicted gait cycle (:class:`walk3d.results.Prediction`: read-only SI arrays, time
+    first) that also tabulates, plots and saves itself."""
+
+    @classmethod
+    def of(cls, pred: _Prediction) -> Prediction:
+        """The same cycle as this class (arrays shared, read-only)."""
+        return pred if isinstance(pred, cls) else cls(**{f.name: getattr(pred, f.name)
+                                                         for f in fields(pred)})  # fmt: skip
+
+    @property
+    def converged(self) -> bool:
+        """Whether the solve converged (``summary["converged"]``); False for an unlabelled one."""
+        return bool(self.summary.get("converged", False))
+
+    @property
+    def descriptors(self) -> dict[str, Any]:
+        """Speed (m/s), period, double support (s), stride length (m), cadence (steps/min),
+        stance fraction, and which were ``predicted`` (``summary["descriptors"]``)."""
+        return dict(self.summary.get("descriptors", {}))
+
+    def to_dataframe(self) -> pandas.DataFrame:
+        """One row per time sample, indexed by ``time_s``: ``percent_cycle``, joint angles in
+        degrees (``<dof>_deg``), joint moments (``<joint>_moment_<axis>_Nm``, active axes), each
+        foot's ground reaction (``grf_<side>_<x|y|z>_N``), centre of pressure
+        (``cop_<side>_<axis>_m``, NaN in swing), free moment and the pelvis origin (m)."""
+        import numpy as np
+        import pandas as pd
+
+        t = self.time
+        cols: dict[str, np.ndarray] = {"percent_cycle": 100.0 * (t - t[0]) / (t[-1] - t[0])}
+        for k, name in enumerate(self.dof_names):
+            cols[f"{name}_deg"] = np.degrees(self.joint_angle[:, k])
+        for j, joint in enumerate(self.joint_names):
+            for a in np.flatnonzero(self.joint_axis_active[j]):
+                cols[f"{joint}_moment_{_AXES[a]}_Nm"] = self.joint_moment[:, j, a]
+        for f, side in enumerate(("r", "l")):
+            for a, axis in enumerate(_AXES):
+                cols[f"grf_{side}_{axis}_N"] = self.grf_force[:, f, a]
+            for a, axis in enumerate(_AXES):
+                cols[f"cop_{side}_{axis}_m"] = self.grf_cop[:, f, a]
+            cols[f"free_moment_{side}_Nm"] = self.grf_free_moment[:, f]
+        for a, axis in enumerate(_AXES):
+            cols[f"pelvis_{axis}_m"] = self.pelvis_position[:, a]
+        return pd.DataFrame(cols, index=pd.Index(t, name="time_s"))
+
+    def plot(self, path: str | PathLike[str] | None = None) -> Figure:
+        """The summary figure (joint angles in degrees, ground reactions in N/kg), also written
+        as a PNG to ``path`` when given."""
+        from walk3d.plots import summary_figure, summary_plot
+
+        if path is not None:
+            summary_figure(self, path)
+        return summary_plot(self)
+
+    def save(self, out_dir: str | PathLike[str], *, figure: bool = True,
+             animate: bool = False) -> Path:  # fmt: skip
+        """Write the result folder ``walk3d predict --out`` writes (atomically; an earlier result
+        there is replaced), with ``summary.png`` when ``figure`` and ``animation.mp4`` when
+        ``animate``. Returns the folder."""
+        from walk3d.pipeline import write_result
+
+        return write_result(self, out_dir, figure=figure, animate=animate)
+
+
+def load_result(out_dir: str | PathLike[str]) -> Prediction:
+    """Read a result folder (``walk3d predict --out``, :meth:`Prediction.save`)."""
+    return Prediction.of(_load_result(out_dir))
+
+
+def criterion_value(value: str) -> str:
+    """A criterion preset name, weights like ``'tor=1,accel=0.5'``, or a TOML file of weights,
+    as the canonical weights string. Raises ValueError naming what is wrong."""
+    from walk3d.io.criterion import read_criterion
+    from walk3d.io.errors import DataFileError
+    from walk3d.problem import terms
+
+    if value.lower().endswith(".toml"):
+        try:
+            value = read_criterion(value)
+        except DataFileError as exc:
+            raise ValueError(f"criterion {exc}") from None
+    try:
+        return terms.canonical(value)
+    except ValueError as exc:
+        raise ValueError(f"criterion: {exc}") from None
+
+
+def gait_fields(speed: float, period: float | None, double_support: float | None,
+                height: float) -> dict[str, Any]:  # fmt: skip
+    """``speed``, ``period``, ``double_support`` and ``free`` settings fields: a None descriptor
+    is predicted from a first guess (:func:`walk3d.problem.descriptors.auto_descriptors`).
+    Raises ValueError when a given Td fits no period."""
+    from walk3d.problem.descriptors import auto_descriptors
+
+    if not (0 < speed <= 4.0 and 1.0 <= height <= 2.4):  # refused with its range by settings()
+        return {"speed": speed, "period": period or 1.0, "double_support": double_support or 0.1}
+    t, td, free = auto_descriptors(speed, height, period, double_support)
+    return {"speed": speed, "period": t, "double_support": td, "free": free}
+
+
+def settings(
+    speed: float = 1.3806,
+    period: float | None = None,
+    double_support: float | None = None,
+    **options: Any,
+) -> PredictionSettings:
+    """Validated settings with ``walk3d predict``'s defaults: ``criterion`` (a preset, weights
+    or TOML file), ``mass``, ``height``, ``sex``, ``start``, ``nodes``, ``threads`` (default:
+    every core) and any other :class:`~walk3d.problem.settings.PredictionSettings` field.
+    Raises ValueError with one line."""
+    from walk3d.problem.settings import PredictionSettings, available_cores, first_error
+    from walk3d.problem.terms import DEFAULT_PRESET
+
+    options = {"height": 1.77, "threads": min(available_cores(), 64), **options}
+    options["criterion"] = criterion_value(str(options.get("criterion", DEFAULT_PRESET)))
+    fields_ = gait_fields(speed, period, double_support, options["height"])
+    try:
+        return PredictionSettings(**fields_, **options)
+    except ValueError as exc:
+        raise ValueError(first_error(exc)) from None
+
+
+def predict(speed: float = 1.3806, *, period: float | None = None,
+            double_support: float | None = None, mass: float = 68.8, height: float = 1.77,
+            sex: str = "male", seed: int = 0, out: str | PathLike[str] | None = None,
+            animate: bool = False, progress: bool | Callable[[str], None] = False,
+            **options: Any) -> Prediction:  # fmt: skip
+    """Predict one gait cycle at ``speed`` (m/s) for a body of ``mass`` (kg), ``height`` (m) and
+    ``sex``. ``period`` and ``double_support`` (s) are predicted with the gait unless given.
+
+    ``options``: ``criterion`` (default ``natural``; ``tor`` with period=1.08 and
+    double_support=0.16 is the paper's case), ``start`` (``atlas`` or ``standing``) and any
+    other settings field (:func:`settings`). ``out``: also write the result folder there.
+    ``progress``: True prints the solver's stages to stderr; a callable receives them.
+
+    A solve that does not converge still returns, with ``converged`` False and a
+    :class:`RuntimeWarning`. Raises ValueError for bad input.
+    """
+    from walk3d.pipeline import predict as run
+
+    if not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+    s = settings(speed, period, double_support, mass=mass, height=height, sex=sex, **options)
+    on_stage = progress if callable(progress) else _print_stage if progress else None
+    pred = Prediction.of(run(s, seed, out_dir=out, animate=animate, on_stage=on_stage))
+    if not pred.converged:
+        warnings.warn(f"walk3d: the solve did not converge ({pred.summary.get('status')}); "
+                      "this is not a valid prediction", RuntimeWarning, stacklevel=2)  # fmt: skip
+    return pred
+
+
+def _print_stage(message: str) -> None:
+    print(f"walk3d: {message}", file=sys.stderr, flush=True)
