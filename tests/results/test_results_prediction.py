@@ -112,7 +112,7 @@ def test_save_writes_all_files_without_temporaries(saved):
     _, out = saved
     names = sorted(p.name for p in out.iterdir())
     files = ["result.npz", "summary.json", "motion.mot", "grf.mot", "grf.xml", "manifest.json",
-             "model.osim", "inverse_dynamics.sto"]  # fmt: skip
+             "model.osim", "inverse_dynamics.sto", "markers.c3d"]  # fmt: skip
     assert names == sorted(files)
     assert not [p for p in out.parent.iterdir() if p.name.startswith(".tmp_")]
 

@@ -17,7 +17,9 @@ and a JSON-ready ``summary`` dictionary. :func:`save_prediction` writes a result
   plays (:func:`walk3d.results.osim_model.osim_model`, :func:`walk3d.io.osim.write_osim`);
 * ``inverse_dynamics.sto``: walk3d's joint moments as that model's generalized forces, under
   the names of OpenSim's InverseDynamicsTool
-  (:func:`walk3d.results.inverse_dynamics.write_inverse_dynamics`).
+  (:func:`walk3d.results.inverse_dynamics.write_inverse_dynamics`);
+* ``markers.c3d``: virtual Plug-in Gait markers and the feet's loads on two force platforms,
+  a lab trial for clinical gait software (:func:`walk3d.results.lab_trial.write_markers_c3d`).
 
 * ``manifest.json``: written last, every file's name and size (:func:`check_complete`).
 
@@ -44,10 +46,12 @@ from walk3d.io._atomic import atomic_folder, atomic_write_bytes, atomic_write_te
 from walk3d.io.errors import DataFileError
 from walk3d.io.osim import write_osim
 from walk3d.results.inverse_dynamics import write_inverse_dynamics
+from walk3d.results.lab_trial import write_markers_c3d
 from walk3d.results.opensim import write_grf, write_motion
 from walk3d.results.osim_model import motion_extent, osim_model, prediction_body
 
 __all__ = [
+    "C3D_FILES",
     "MANIFEST",
     "Prediction",
     "OPENSIM_FILES",
@@ -64,6 +68,9 @@ RESULT_FILES = ("result.npz", "summary.json", "motion.mot", "grf.mot", "grf.xml"
 OPENSIM_FILES = ("model.osim", "inverse_dynamics.sto")
 """Also written by :func:`save_prediction`; folders written before it wrote them lack them, so
 they are checked only where the manifest lists them."""
+
+C3D_FILES = ("markers.c3d",)
+"""Also written by :func:`save_prediction`, checked like :data:`OPENSIM_FILES`."""
 
 MANIFEST = "manifest.json"
 """Written last into a result folder: every file's name and size in bytes."""
@@ -227,6 +234,7 @@ def save_prediction(
         body = body or prediction_body(pred)
         write_osim(tmp / "model.osim", osim_model(body, motion_extent(pred)))
         write_inverse_dynamics(tmp / "inverse_dynamics.sto", pred, body)
+        write_markers_c3d(tmp / "markers.c3d", pred, body)
         if extra is not None:
             extra(tmp)
         files = {p.name: p.stat().st_size for p in sorted(tmp.iterdir()) if p.is_file()}
