@@ -1,8 +1,10 @@
 """``walk3d report DIR``: tell a prediction folder from a campaign folder and write its page.
 
-A campaign folder has ``campaign.json``; a prediction folder has ``summary.json`` (its
-``manifest.json`` is checked when it is read). A page written into a prediction folder is
-listed in its manifest (:func:`walk3d.results.prediction.record_file`).
+A prediction folder has ``summary.json`` (its ``manifest.json`` is checked when it is read);
+a campaign folder has ``campaign.json`` (and no ``summary.json``: its starts are sub-folders).
+A page written into a prediction folder is listed in its manifest
+(:func:`walk3d.results.prediction.record_file`). :mod:`walk3d.campaign` (and Dask with it) is
+imported only for a campaign folder, which keeps a prediction's report quick to start.
 """
 
 from __future__ import annotations
@@ -10,9 +12,7 @@ from __future__ import annotations
 from os import PathLike
 from pathlib import Path
 
-from walk3d.campaign import store
 from walk3d.io._atomic import atomic_write_text
-from walk3d.report.campaign_page import campaign_page
 from walk3d.report.norms import Norms, find_data, load_norms
 from walk3d.report.prediction_page import REPORT, prediction_page
 from walk3d.results.prediction import load_result, record_file
@@ -23,11 +23,11 @@ __all__ = ["build_report", "folder_kind", "save_report", "write_report"]
 def folder_kind(folder: str | PathLike[str]) -> str | None:
     """``"campaign"``, ``"prediction"`` or None (neither)."""
     root = Path(folder)
-    if (root / store.CAMPAIGN_FILE).is_file():
-        return "campaign"
     if (root / "summary.json").is_file():
         return "prediction"
-    return None
+    from walk3d.campaign.store import CAMPAIGN_FILE
+
+    return "campaign" if (root / CAMPAIGN_FILE).is_file() else None
 
 
 def build_report(folder: str | PathLike[str], norms: Norms) -> tuple[str, str]:
@@ -43,6 +43,8 @@ def build_report(folder: str | PathLike[str], norms: Norms) -> tuple[str, str]:
         raise ValueError(f"{root} is neither a prediction folder (summary.json, written by "
                          "walk3d predict) nor a campaign folder (campaign.json)")  # fmt: skip
     if kind == "campaign":
+        from walk3d.report.campaign_page import campaign_page
+
         return kind, campaign_page(root, norms)
     return kind, prediction_page(load_result(root), root, norms)
 
