@@ -132,10 +132,10 @@ def campaign(
         f"{report.errors} errors; this run {report.ran}{retried}, resumed {report.skipped} "
         f"({report.wall_time_s:.1f} s); ranking in {out}/ranking.csv"
     )
-    _write_report(out)
     if report.missing:
         fail(f"{report.missing} starts could not be recorded in {out} (disk full?); free space "
              "and rerun the same command to run them", code=EXIT_WRITE)  # fmt: skip
+    _write_report(out)
     if report.best_seed is None:
         console.print("no start converged: no best/ folder was written")
         raise typer.Exit(1)
