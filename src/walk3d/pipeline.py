@@ -104,11 +104,13 @@ def predict(
     on_stage: Callable[[str], None] | None = None,
     warm_from: np.ndarray | None = None,
     animate: bool = False,
+    report: bool = False,
 ) -> Prediction:
     """Predict one gait cycle; write the result folder when ``out_dir`` is given.
     ``warm_from``: another prediction's decision vector (the subject's, ``summary.json``'s
     ``coefficients``) to start from instead of standing (:func:`walk3d.solve.starts.solve_warm`;
-    the settings must predict a descriptor). ``animate``: also write ``animation.mp4``."""
+    the settings must predict a descriptor). ``animate``, ``report``: also write
+    ``animation.mp4``, ``report.html`` (:func:`write_result`)."""
     from walk3d.solve import run_solver
     from walk3d.solve.starts import solve_warm
 
@@ -129,7 +131,7 @@ def predict(
     if out_dir is not None:
         if warm.is_alive():
             warm.join()  # Matplotlib's font objects are not for two threads at once
-        write_result(pred, out_dir, figure, body, animate=animate)
+        write_result(pred, out_dir, figure, body, animate=animate, report=report)
     return pred
 
 
@@ -149,11 +151,12 @@ def write_result(
     figure: bool = True,
     body: BodyModel | None = None,
     animate: bool = False,
+    report: bool = False,
 ) -> Path:
-    """Write the result folder atomically, with ``summary.png`` when ``figure`` and
-    ``animation.mp4`` (two cycles, :func:`walk3d.plots.write_animation`) when ``animate``, both
-    listed in the manifest; ``body`` is the body model ``pred`` was evaluated with (default:
-    rebuilt from its settings).
+    """Write the result folder atomically, with ``summary.png`` when ``figure``,
+    ``animation.mp4`` (two cycles, :func:`walk3d.plots.write_animation`) when ``animate`` and
+    then ``report.html`` (:mod:`walk3d.report`) when ``report``, all listed in the manifest;
+    ``body`` is the body model ``pred`` was evaluated with (default: from its settings).
 
     Raises:
         OutputWriteError: the folder could not be written; nothing is left behind.
@@ -166,9 +169,15 @@ def write_result(
             summary_figure(pred, folder / "summary.png")
         if animate:
             write_animation(pred, folder / "animation.mp4", body=body)
+        if report:
+            from walk3d.report.norms import find_data, load_norms
+            from walk3d.report.prediction_page import REPORT, write_prediction_report
+
+            norms = load_norms(find_data())
+            write_prediction_report(pred, folder, folder / REPORT, norms, shown_as=str(out_dir))
 
     try:
-        extra = add_figure if figure or animate else None
+        extra = add_figure if figure or animate or report else None
         return save_prediction(pred, out_dir, extra=extra, body=body)
     except OSError as exc:
         raise OutputWriteError(out_dir, exc) from exc

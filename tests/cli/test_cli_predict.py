@@ -98,8 +98,10 @@ def test_a_prediction_that_did_not_converge_is_written_labelled_and_exits_1(tmp_
     # which BLAS IPOPT ran on (walk3d.solve.blas), in the summary and the printed table
     assert summary["blas"].startswith(("scipy-openblas32 ", "CasADi's"))
     assert f"MUMPS on {summary['blas']}" in r.stdout
-    for name in ("result.npz", "motion.mot", "grf.mot", "summary.png"):
+    for name in ("result.npz", "motion.mot", "grf.mot", "summary.png", "report.html"):
         assert (out / name).is_file(), name
+    page = (out / "report.html").read_text(encoding="utf-8")  # written last, labelled too
+    assert "NOT CONVERGED" in page and "report.html" in (out / "manifest.json").read_text()
 
 
 @pytest.mark.parametrize("command", ["predict", "campaign"])

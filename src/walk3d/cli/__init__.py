@@ -5,7 +5,7 @@ Bad input gives one clear error line on stderr and exit code 2. Commands live in
 :mod:`walk3d.cli.atlas_command`, :mod:`walk3d.cli.campaign_command`,
 :mod:`walk3d.cli.sweep_command`,
 :mod:`walk3d.cli.validation` (validate, calibrate), :mod:`walk3d.cli.verify_command` and
-:mod:`walk3d.cli.animate_command`;
+:mod:`walk3d.cli.animate_command` and :mod:`walk3d.cli.report_command`;
 shared options in :mod:`walk3d.cli.common`.
 """
 
@@ -21,6 +21,7 @@ from walk3d.cli import (  # noqa: F401  (register the commands)
     atlas_command,
     campaign_command,
     commands,
+    report_command,
     sweep_command,
     validation,
     verify_command,

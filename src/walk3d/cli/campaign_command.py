@@ -87,7 +87,7 @@ def campaign(
     the same command resumes (a larger --starts adds starts). Writes DIR/ranking.csv and
     DIR/best/. Exit code 0 if a start converged, 1 if none did, 2 for bad input, 3 if starts
     could not be written (a rerun retries them, and starts that failed on the disk, memory or a
-    lost worker), 130 on Ctrl-C."""
+    lost worker), 130 on Ctrl-C. Ends with DIR/report.html (walk3d report)."""
     if starts < 1:
         fail(f"--starts must be a positive integer, got {starts}")
     if workers is not None and workers < 1:
@@ -135,7 +135,19 @@ def campaign(
     if report.missing:
         fail(f"{report.missing} starts could not be recorded in {out} (disk full?); free space "
              "and rerun the same command to run them", code=EXIT_WRITE)  # fmt: skip
+    _write_report(out)
     if report.best_seed is None:
         console.print("no start converged: no best/ folder was written")
         raise typer.Exit(1)
     console.print(f"best converged start: seed {report.best_seed}, copied to {out}/best/")
+
+
+def _write_report(out: str) -> None:
+    """``DIR/report.html`` at the end of a campaign; a failure is one line, exit code 3."""
+    from walk3d.report.writer import write_report
+
+    try:
+        _, path = write_report(out)
+    except (OSError, ValueError) as exc:
+        fail(f"cannot write {out}/report.html: {' '.join(str(exc).split())}", code=EXIT_WRITE)
+    console.print(f"report: {path}", markup=False, highlight=False)

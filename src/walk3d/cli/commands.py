@@ -172,13 +172,13 @@ def predict(
         typer.Option("--animate", help="Also write DIR/animation.mp4 (two cycles, a few s)."),
     ] = False,
 ) -> None:
-    """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot and
-    summary.png (and animation.mp4 with --animate). Exit code 0 if the solve converged, 1 if
-    not (results are still written and labelled), 2 for bad input, 3 if the folder could not
-    be written (nothing is left), 130 on Ctrl-C. An earlier result in DIR is replaced. T and
-    Td are predicted with the gait unless given (--period, --double-support, --paper). With
-    --from-trial IK.mot --grf GRF.mot, V, T and Td come from the trial unless --speed,
-    --period or --double-support are given."""
+    """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot,
+    summary.png (and animation.mp4 with --animate) and, last, report.html. Exit code 0 if the
+    solve converged, 1 if not (results are still written and labelled), 2 for bad input, 3 if
+    the folder could not be written (nothing is left), 130 on Ctrl-C. An earlier result in DIR
+    is replaced. T and Td are predicted with the gait unless given (--period,
+    --double-support, --paper). With --from-trial IK.mot --grf GRF.mot, V, T and Td come from
+    the trial unless --speed, --period or --double-support are given."""
     check_output_folder(out, replaces="summary.json")
     case = paper_case(ctx, paper, {"speed": speed, "period": period, "mass": mass, "sex": sex,
                                    "double_support": double_support, "height": height,
@@ -204,7 +204,7 @@ def predict(
 
     try:
         with console.status("walk3d: starting") as status:
-            pred = run(settings, seed, solver, out_dir=out, animate=animate,
+            pred = run(settings, seed, solver, out_dir=out, animate=animate, report=True,
                        on_stage=lambda msg: status.update(f"walk3d: {msg}"))  # fmt: skip
     except OutputWriteError as exc:
         fail(str(exc), code=EXIT_WRITE)

@@ -1,0 +1,72 @@
+"""``walk3d report DIR``: tell a prediction folder from a campaign folder and write its page.
+
+A prediction folder has ``summary.json`` (its ``manifest.json`` is checked when it is read);
+a campaign folder has ``campaign.json`` (and no ``summary.json``: its starts are sub-folders).
+A page written into a prediction folder is listed in its manifest
+(:func:`walk3d.results.prediction.record_file`). :mod:`walk3d.campaign` (and Dask with it) is
+imported only for a campaign folder, which keeps a prediction's report quick to start.
+"""
+
+from __future__ import annotations
+
+from os import PathLike
+from pathlib import Path
+
+from walk3d.io._atomic import atomic_write_text
+from walk3d.report.norms import Norms, find_data, load_norms
+from walk3d.report.prediction_page import REPORT, prediction_page
+from walk3d.results.prediction import load_result, record_file
+
+__all__ = ["build_report", "folder_kind", "save_report", "write_report"]
+
+
+def folder_kind(folder: str | PathLike[str]) -> str | None:
+    """``"campaign"``, ``"prediction"`` or None (neither)."""
+    root = Path(folder)
+    if (root / "summary.json").is_file():
+        return "prediction"
+    from walk3d.campaign.store import CAMPAIGN_FILE
+
+    return "campaign" if (root / CAMPAIGN_FILE).is_file() else None
+
+
+def build_report(folder: str | PathLike[str], norms: Norms) -> tuple[str, str]:
+    """``(kind, page)`` of ``folder``, read but not written.
+
+    Raises:
+        ValueError: ``folder`` is neither kind, or a file in it is malformed (DataFileError).
+        OSError: a file cannot be read.
+    """
+    root = Path(folder)
+    kind = folder_kind(root)
+    if kind is None:
+        raise ValueError(f"{root} is neither a prediction folder (summary.json, written by "
+                         "walk3d predict) nor a campaign folder (campaign.json)")  # fmt: skip
+    if kind == "campaign":
+        from walk3d.report.campaign_page import campaign_page
+
+        return kind, campaign_page(root, norms)
+    return kind, prediction_page(load_result(root), root, norms)
+
+
+def save_report(folder: str | PathLike[str], kind: str, page: str, out: Path | None) -> Path:
+    """Write ``page`` atomically to ``out`` (default ``folder/report.html``), listed in the
+    manifest when it lands in a prediction folder; returns its path."""
+    root = Path(folder)
+    target = out if out is not None else root / REPORT
+    atomic_write_text(target, page)
+    if kind == "prediction" and target.resolve().parent == root.resolve():
+        record_file(root, target.name)
+    return target
+
+
+def write_report(
+    folder: str | PathLike[str],
+    out: str | PathLike[str] | None = None,
+    data: str | PathLike[str] | None = None,
+) -> tuple[str, Path]:
+    """Build and save the page of ``folder`` (see :func:`build_report`, :func:`save_report`);
+    ``data`` is the measured-data folder (default: :func:`walk3d.report.norms.find_data`).
+    Returns ``(kind, path)``."""
+    kind, page = build_report(folder, load_norms(find_data(data)))
+    return kind, save_report(folder, kind, page, None if out is None else Path(out))

@@ -1,0 +1,81 @@
+"""``walk3d report DIR``: writes the page and lists it in the manifest; bad input gives one line
+and exit code 2. ``walk3d predict`` and ``walk3d campaign`` end with the page."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import pytest
+from report_support import make_campaign, make_prediction
+
+from walk3d.report.writer import write_report
+from walk3d.results.prediction import check_complete
+
+
+def _report(*args, env=None):
+    env = os.environ | {"MPLBACKEND": "Agg", "COLUMNS": "200"} | (env or {})
+    cmd = [sys.executable, "-m", "walk3d.cli", "report", *map(str, args)]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=120, env=env)
+
+
+def test_cli_writes_the_page_into_the_folder_and_its_manifest(fresh_folder):
+    r = _report(fresh_folder)
+    assert r.returncode == 0, r.stderr
+    assert "walk3d report ->" in r.stdout and "(prediction," in r.stdout
+    files = json.loads((fresh_folder / "manifest.json").read_text())["files"]
+    assert files["report.html"] == (fresh_folder / "report.html").stat().st_size
+
+
+def test_cli_without_measured_data_still_writes_the_page(fresh_folder, tmp_path):
+    r = _report(fresh_folder, "--out", tmp_path / "r.html", env={"WALK3D_SHARED_DATA": "/none"})
+    assert r.returncode == 0, r.stderr
+    assert "no measured bands found" in r.stdout
+    assert "No measured normative data found" in (tmp_path / "r.html").read_text(encoding="utf-8")
+    assert not (fresh_folder / "report.html").exists()  # --out elsewhere
+
+
+@pytest.mark.parametrize("case", ["missing", "neither", "no_manifest", "bad_out", "bad_data"])
+def test_cli_bad_input_one_line_exit_2(result_folder, tmp_path, case):
+    args = {
+        "missing": [tmp_path / "none"],
+        "neither": [tmp_path],
+        "no_manifest": [tmp_path / "broken"],
+        "bad_out": [result_folder, "--out", tmp_path / "r.txt"],
+        "bad_data": [result_folder, "--data", tmp_path],
+    }[case]
+    if case == "no_manifest":
+        shutil.copytree(result_folder, tmp_path / "broken")
+        (tmp_path / "broken" / "manifest.json").unlink()
+    r = _report(*args)
+    assert r.returncode == 2, (r.stdout, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("walk3d: error:"), r.stderr
+    assert "Traceback" not in r.stderr
+    assert not (result_folder / "report.html").exists()
+
+
+def test_predict_writes_the_report_inside_its_atomic_folder(evaluated, tmp_path):
+    from walk3d.predict import write_result
+
+    settings, body, ev = evaluated
+    out = write_result(make_prediction(settings, ev, converged=True), tmp_path / "o",
+                       figure=False, body=body, report=True)  # fmt: skip
+    check_complete(out)
+    assert "report.html" in json.loads((out / "manifest.json").read_text())["files"]
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert f"walk3d animate {out}" in page and ".tmp_" not in page  # named as the final folder
+
+
+def test_campaign_command_ends_with_the_report(result_folder, tmp_path):
+    from walk3d.cli.campaign_command import _write_report
+
+    out = make_campaign(tmp_path / "c", result_folder, {0: True}, 1)
+    _write_report(str(out))
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert page.startswith("<!DOCTYPE html>") and "Best converged start: seed 0" in page
+    kind, path = write_report(out, out=tmp_path / "again.html")
+    assert kind == "campaign" and path.read_text(encoding="utf-8") == page
