@@ -121,7 +121,7 @@ def test_dataframe_vertical_forces_carry_the_weight_over_the_cycle(prediction):
 
 def test_save_and_load_round_trip_as_api_prediction(prediction, tmp_path):
     folder = prediction.save(tmp_path / "pred", figure=True)
-    assert (folder / "summary.png").stat().st_size > 10_000
+    assert (folder / "summary.png").stat().st_size > 10_000 and (folder / "report.html").exists()
     back = walk3d.load_result(folder)
     assert isinstance(back, api.Prediction) and back.converged
     for name, value in _fields(prediction).items():

@@ -85,14 +85,14 @@ class Prediction(_Prediction):
             summary_figure(self, path)
         return summary_plot(self)
 
-    def save(self, out_dir: str | PathLike[str], *, figure: bool = True,
-             animate: bool = False) -> Path:  # fmt: skip
+    def save(self, out_dir: str | PathLike[str], *, figure: bool = True, animate: bool = False,
+             report: bool = True) -> Path:  # fmt: skip
         """Write the result folder ``walk3d predict --out`` writes (atomically; an earlier result
-        there is replaced), with ``summary.png`` when ``figure`` and ``animation.mp4`` when
-        ``animate``. Returns the folder."""
+        there is replaced), with ``summary.png`` when ``figure``, ``animation.mp4`` when
+        ``animate`` and ``report.html`` when ``report``. Returns the folder."""
         from walk3d.pipeline import write_result
 
-        return write_result(self, out_dir, figure=figure, animate=animate)
+        return write_result(self, out_dir, figure=figure, animate=animate, report=report)
 
 
 def load_result(out_dir: str | PathLike[str]) -> Prediction:
@@ -159,15 +159,16 @@ def predict(speed: float = 1.3806, *, period: float | None = None,
             animate: bool = False, progress: bool | Callable[[str], None] = False,
             **options: Any) -> Prediction:  # fmt: skip
     """Predict one gait cycle at ``speed`` (m/s) for a body of ``mass`` (kg), ``height`` (m) and
-    ``sex``. ``period`` and ``double_support`` (s) are predicted with the gait unless given.
+        ``sex``. ``period`` and ``double_support`` (s) are predicted with the gait unless given.
 
-    ``options``: ``criterion`` (default ``natural``; ``tor`` with period=1.08 and
-    double_support=0.16 is the paper's case), ``start`` (``atlas`` or ``standing``) and any
-    other settings field (:func:`settings`). ``out``: also write the result folder there.
-    ``progress``: True prints the solver's stages to stderr; a callable receives them.
+        ``options``: ``criterion`` (default ``natural``; ``tor`` with period=1.08 and
+        double_support=0.16 is the paper's case), ``start`` (``atlas`` or ``standing``) and any
+        other settings field (:func:`settings`). ``out``: also write the result folder there (with
+    ``report.html``, and ``animation.mp4`` when ``animate``).
+        ``progress``: True prints the solver's stages to stderr; a callable receives them.
 
-    A solve that does not converge still returns, with ``converged`` False and a
-    :class:`RuntimeWarning`. Raises ValueError for bad input.
+        A solve that does not converge still returns, with ``converged`` False and a
+        :class:`RuntimeWarning`. Raises ValueError for bad input.
     """
     from walk3d.pipeline import predict as run
 
@@ -175,7 +176,7 @@ def predict(speed: float = 1.3806, *, period: float | None = None,
         raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
     s = settings(speed, period, double_support, mass=mass, height=height, sex=sex, **options)
     on_stage = progress if callable(progress) else _print_stage if progress else None
-    pred = Prediction.of(run(s, seed, out_dir=out, animate=animate, on_stage=on_stage))
+    pred = Prediction.of(run(s, seed, out_dir=out, animate=animate, report=True, on_stage=on_stage))
     if not pred.converged:
         warnings.warn(f"walk3d: the solve did not converge ({pred.summary.get('status')}); "
                       "this is not a valid prediction", RuntimeWarning, stacklevel=2)  # fmt: skip

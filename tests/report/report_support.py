@@ -42,7 +42,7 @@ def evaluate_atlas():
 
 def make_prediction(settings, ev, converged: bool, seed: int = 0):
     """A Prediction with ``walk3d predict``'s summary, its solver outcome made up."""
-    from walk3d.predict import summarize
+    from walk3d.pipeline import summarize
     from walk3d.results.evaluate import make_prediction as make
 
     outcome = SimpleNamespace(

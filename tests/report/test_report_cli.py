@@ -59,7 +59,7 @@ def test_cli_bad_input_one_line_exit_2(result_folder, tmp_path, case):
 
 
 def test_predict_writes_the_report_inside_its_atomic_folder(evaluated, tmp_path):
-    from walk3d.predict import write_result
+    from walk3d.pipeline import write_result
 
     settings, body, ev = evaluated
     out = write_result(make_prediction(settings, ev, converged=True), tmp_path / "o",

@@ -5,6 +5,6 @@
 * :mod:`.prediction_page`, :mod:`.campaign_page`: the two pages;
 * :mod:`.writer`: which folder is which, and the atomic write (``walk3d report``).
 
-Nothing is imported here, so that :mod:`walk3d.predict` can use :mod:`.prediction_page`
+Nothing is imported here, so that :mod:`walk3d.pipeline` can use :mod:`.prediction_page`
 without loading :mod:`walk3d.campaign` (which runs predictions).
 """

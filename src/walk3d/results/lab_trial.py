@@ -38,9 +38,9 @@ from typing import Any
 import numpy as np
 
 from walk3d.body.model import BodyModel
+from walk3d.constants import G
 from walk3d.io.c3d_write import C3dEvent, PlateLoads, file_rate, write_c3d
 from walk3d.results.markers import Marker, marker_positions, marker_set
-from walk3d.results.osim_model import GRAVITY
 
 __all__ = [
     "ANALOG_RATIO",
@@ -150,7 +150,7 @@ def _footprint(pred: Any, body: BodyModel, trial: LabTrial, foot: int) -> np.nda
     side = "rl"[foot]
     first, last = trial.stances[foot]
     k = np.arange(first, last + 1)
-    weight = pred.body_mass * GRAVITY
+    weight = pred.body_mass * G
     strong = k[pred.grf_force[k % trial.period_samples, foot, 1] >= LOADED_SHARE * weight]
     k = strong if strong.size else k
     sole = [Marker(n, f"foot_{side}", p) for n, p in zip("htam", body.foot.points(side),
