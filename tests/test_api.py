@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.integrate import trapezoid
 
 import walk3d
 from walk3d import G, api
@@ -52,6 +53,9 @@ def test_root_names_are_the_api_even_after_the_pipeline_module_is_imported():
         ({"speed": 1.3, "criterion": "nonsense"}, "criterion"),
         ({"speed": 1.3, "seed": -1}, "seed must be a non-negative integer"),
         ({"speed": 1.3, "colour": "red"}, "unknown setting 'colour'"),
+        ({"speed": "1.2"}, "speed must be a number"),
+        ({"speed": 1.3, "height": None}, "height must be a number"),
+        ({"speed": 1.3, "seed": True}, "seed must be a non-negative integer"),
     ],
 )
 def test_bad_input_is_one_line_value_error_before_any_solve(monkeypatch, kwargs, message):
@@ -98,7 +102,12 @@ def test_a_solve_that_did_not_converge_is_labelled_and_warned(monkeypatch, predi
 def test_dataframe_units_and_columns(prediction):
     df = prediction.to_dataframe()
     assert df.index.name == "time_s" and len(df) == prediction.n_nodes
-    assert df["percent_cycle"].iloc[0] == 0 and df["percent_cycle"].iloc[-1] == pytest.approx(100)
+    # 0 % at right heel strike (T/2 - Td after the clock's right toe-off), as walk3d validate
+    gait = prediction.summary["settings"]["gait"]
+    t_hs = gait["period"] / 2 - gait["double_support"]
+    k = int(np.argmin(df["percent_cycle"].to_numpy()))
+    assert df.index[k] - df.index[0] == pytest.approx(t_hs, abs=gait["period"] / 100)
+    assert df["percent_cycle"].iloc[0] > 50  # control: the clock's 0 is not the cycle's 0 %
     hip = prediction.dof("hip_flexion_r")
     np.testing.assert_allclose(df["hip_flexion_r_deg"], np.degrees(hip))
     assert not np.allclose(df["hip_flexion_r_deg"], hip)  # control: radians would differ
@@ -113,9 +122,9 @@ def test_dataframe_vertical_forces_carry_the_weight_over_the_cycle(prediction):
     df = prediction.to_dataframe()
     t = df.index.to_numpy()
     weight = prediction.body_mass * G
-    both = np.trapezoid(df["grf_r_y_N"] + df["grf_l_y_N"], t) / (t[-1] - t[0])
+    both = trapezoid(df["grf_r_y_N"] + df["grf_l_y_N"], t) / (t[-1] - t[0])
     assert both == pytest.approx(weight, rel=0.01)
-    one = np.trapezoid(df["grf_r_y_N"], t) / (t[-1] - t[0])  # control: one foot alone is not
+    one = trapezoid(df["grf_r_y_N"], t) / (t[-1] - t[0])  # control: one foot alone is not
     assert abs(one / weight - 1) > 0.3
 
 

@@ -8,6 +8,7 @@ Bad input raises :class:`ValueError` with one line that names the input.
 
 from __future__ import annotations
 
+import numbers
 import sys
 import warnings
 from collections.abc import Callable
@@ -52,15 +53,22 @@ class Prediction(_Prediction):
         return dict(self.summary.get("descriptors", {}))
 
     def to_dataframe(self) -> pandas.DataFrame:
-        """One row per time sample, indexed by ``time_s``: ``percent_cycle``, joint angles in
-        degrees (``<dof>_deg``), joint moments (``<joint>_moment_<axis>_Nm``, active axes), each
-        foot's ground reaction (``grf_<side>_<x|y|z>_N``), centre of pressure
-        (``cop_<side>_<axis>_m``, NaN in swing), free moment and the pelvis origin (m)."""
+        """One row per time sample, indexed by ``time_s`` (the prediction's clock, which starts
+        at right toe-off as in the paper and ``motion.mot``): ``percent_cycle`` (0 % at right
+        heel strike, as ``walk3d validate``, ``report.html`` and ``markers.c3d``; it wraps to 0
+        there), joint angles in degrees (``<dof>_deg``), joint moments
+        (``<joint>_moment_<axis>_Nm``, active axes), each foot's ground reaction
+        (``grf_<side>_<x|y|z>_N``), centre of pressure (``cop_<side>_<axis>_m``, NaN in swing),
+        free moment and the pelvis origin (m)."""
         import numpy as np
         import pandas as pd
 
+        from walk3d.validation.compare import cycle_timing
+
         t = self.time
-        cols: dict[str, np.ndarray] = {"percent_cycle": 100.0 * (t - t[0]) / (t[-1] - t[0])}
+        period, t_hs = cycle_timing(self)
+        percent = 100.0 * np.mod(t - t[0] - t_hs, period) / period
+        cols: dict[str, np.ndarray] = {"percent_cycle": percent}
         for k, name in enumerate(self.dof_names):
             cols[f"{name}_deg"] = np.degrees(self.joint_angle[:, k])
         for j, joint in enumerate(self.joint_names):
@@ -79,11 +87,15 @@ class Prediction(_Prediction):
     def plot(self, path: str | PathLike[str] | None = None) -> Figure:
         """The summary figure (joint angles in degrees, ground reactions in N/kg), also written
         as a PNG to ``path`` when given."""
-        from walk3d.plots import summary_figure, summary_plot
+        from walk3d.io._atomic import atomic_write
+        from walk3d.plots import summary_plot
 
+        fig = summary_plot(self)
         if path is not None:
-            summary_figure(self, path)
-        return summary_plot(self)
+            target = Path(path)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            atomic_write(target, lambda handle: fig.savefig(handle, format="png"))
+        return fig
 
     def save(self, out_dir: str | PathLike[str], *, figure: bool = True, animate: bool = False,
              report: bool = True) -> Path:  # fmt: skip
@@ -144,6 +156,11 @@ def settings(
     from walk3d.problem.settings import PredictionSettings, available_cores, first_error
     from walk3d.problem.terms import DEFAULT_PRESET
 
+    numbers_ = {"speed": speed, "period": period, "double_support": double_support}
+    numbers_.update((k, options[k]) for k in ("mass", "height") if k in options)
+    for name, value in numbers_.items():
+        if not (value is None and name in ("period", "double_support")) and not _real(value):
+            raise ValueError(f"{name} must be a number, got {value!r}")
     options = {"height": 1.77, "threads": min(available_cores(), 64), **options}
     options["criterion"] = criterion_value(str(options.get("criterion", DEFAULT_PRESET)))
     fields_ = gait_fields(speed, period, double_support, options["height"])
@@ -159,20 +176,20 @@ def predict(speed: float = 1.3806, *, period: float | None = None,
             animate: bool = False, progress: bool | Callable[[str], None] = False,
             **options: Any) -> Prediction:  # fmt: skip
     """Predict one gait cycle at ``speed`` (m/s) for a body of ``mass`` (kg), ``height`` (m) and
-        ``sex``. ``period`` and ``double_support`` (s) are predicted with the gait unless given.
+    ``sex``. ``period`` and ``double_support`` (s) are predicted with the gait unless given.
 
-        ``options``: ``criterion`` (default ``natural``; ``tor`` with period=1.08 and
-        double_support=0.16 is the paper's case), ``start`` (``atlas`` or ``standing``) and any
-        other settings field (:func:`settings`). ``out``: also write the result folder there (with
-    ``report.html``, and ``animation.mp4`` when ``animate``).
-        ``progress``: True prints the solver's stages to stderr; a callable receives them.
+    ``options``: ``criterion`` (default ``natural``; ``tor`` with period=1.08 and
+    double_support=0.16 is the paper's case), ``start`` (``atlas`` or ``standing``) and any
+    other settings field (:func:`settings`). ``out``: also write the result folder there (with
+    ``report.html``, and ``animation.mp4`` when ``animate``). ``progress``: True prints the
+    solver's stages to stderr; a callable receives them.
 
-        A solve that does not converge still returns, with ``converged`` False and a
-        :class:`RuntimeWarning`. Raises ValueError for bad input.
+    A solve that does not converge still returns, with ``converged`` False and a
+    :class:`RuntimeWarning`. Raises ValueError for bad input.
     """
     from walk3d.pipeline import predict as run
 
-    if not isinstance(seed, int) or seed < 0:
+    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
     s = settings(speed, period, double_support, mass=mass, height=height, sex=sex, **options)
     on_stage = progress if callable(progress) else _print_stage if progress else None
@@ -181,6 +198,11 @@ def predict(speed: float = 1.3806, *, period: float | None = None,
         warnings.warn(f"walk3d: the solve did not converge ({pred.summary.get('status')}); "
                       "this is not a valid prediction", RuntimeWarning, stacklevel=2)  # fmt: skip
     return pred
+
+
+def _real(value: Any) -> bool:
+    """A real number that is not a bool."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
 
 
 def _print_stage(message: str) -> None:

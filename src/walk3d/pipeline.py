@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import threading
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 
@@ -156,7 +157,9 @@ def write_result(
     """Write the result folder atomically, with ``summary.png`` when ``figure``,
     ``animation.mp4`` (two cycles, :func:`walk3d.plots.write_animation`) when ``animate`` and
     then ``report.html`` (:mod:`walk3d.report`) when ``report``, all listed in the manifest;
-    ``body`` is the body model ``pred`` was evaluated with (default: from its settings).
+    ``body`` is the body model ``pred`` was evaluated with (default: from its settings). The
+    page is made once the folder is complete: if it fails, a :class:`ReportWarning` says why
+    and the result stays.
 
     Raises:
         OutputWriteError: the folder could not be written; nothing is left behind.
@@ -169,15 +172,29 @@ def write_result(
             summary_figure(pred, folder / "summary.png")
         if animate:
             write_animation(pred, folder / "animation.mp4", body=body)
-        if report:
-            from walk3d.report.norms import find_data, load_norms
-            from walk3d.report.prediction_page import REPORT, write_prediction_report
-
-            norms = load_norms(find_data())
-            write_prediction_report(pred, folder, folder / REPORT, norms, shown_as=str(out_dir))
 
     try:
-        extra = add_figure if figure or animate or report else None
-        return save_prediction(pred, out_dir, extra=extra, body=body)
+        extra = add_figure if figure or animate else None
+        folder = save_prediction(pred, out_dir, extra=extra, body=body)
     except OSError as exc:
         raise OutputWriteError(out_dir, exc) from exc
+    if report:
+        write_report_or_warn(folder)
+    return folder
+
+
+class ReportWarning(UserWarning):
+    """``report.html`` could not be made; the result folder it was for is complete."""
+
+
+def write_report_or_warn(folder: str | Path) -> Path | None:
+    """Write ``folder/report.html`` (:func:`walk3d.report.writer.write_report`); on any failure
+    warn (:class:`ReportWarning`, one line) and return None: a result stands without its page."""
+    from walk3d.report.writer import write_report
+
+    try:
+        return write_report(folder)[1]
+    except Exception as exc:  # noqa: BLE001 - the page is optional, the result is not
+        warnings.warn(f"report.html not written in {folder}: {' '.join(str(exc).split())}",
+                      ReportWarning, stacklevel=2)  # fmt: skip
+        return None

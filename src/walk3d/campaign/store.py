@@ -36,6 +36,7 @@ from walk3d.io._atomic import (
 )
 from walk3d.problem.settings import PredictionSettings, flat_settings
 from walk3d.solve import SOLVE_REVISION
+from walk3d.solve.starts import ATLAS_NOISE_FRACTION
 
 __all__ = [
     "CAMPAIGN_FILE",
@@ -136,6 +137,7 @@ def open_campaign(
     requested = {
         "walk3d_version": __version__,
         "solve_revision": SOLVE_REVISION,
+        "atlas_noise_fraction": ATLAS_NOISE_FRACTION,
         "settings": clean_json(settings.model_dump()),
         "criterion": settings.model.criterion,
         "solver": solver,
@@ -158,6 +160,12 @@ def open_campaign(
                 f"{out} holds a campaign solved by another walk3d (solver revision "
                 f"{stored.get('solve_revision', 'before 11')}, now {SOLVE_REVISION}), whose starts "
                 "would not be comparable; use a new --out"
+            )
+        noise = stored.get("atlas_noise_fraction", 0.2)  # 0.2 before it was recorded
+        if settings.solver.start == "atlas" and noise != ATLAS_NOISE_FRACTION:
+            raise CampaignMismatch(
+                f"{out} holds a campaign whose atlas starts had other noise ({noise:g} of "
+                f"--perturbation, now {ATLAS_NOISE_FRACTION:g}); use a new --out"
             )
         diff = _mismatch(stored, requested)
         if diff is not None:

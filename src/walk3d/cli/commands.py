@@ -40,6 +40,7 @@ from walk3d.cli.common import (
     paper_case,
     settings_from_options,
     start_text,
+    warned,
 )
 from walk3d.problem.terms import DEFAULT_PRESET
 
@@ -204,8 +205,16 @@ def predict(
 
     try:
         with console.status("walk3d: starting") as status:
-            pred = run(settings, seed, solver, out_dir=out, animate=animate, report=True,
-                       on_stage=lambda msg: status.update(f"walk3d: {msg}"))  # fmt: skip
+            pred = warned(
+                run,
+                settings,
+                seed,
+                solver,
+                out_dir=out,
+                animate=animate,
+                report=True,
+                on_stage=lambda msg: status.update(f"walk3d: {msg}"),
+            )
     except OutputWriteError as exc:
         fail(str(exc), code=EXIT_WRITE)
     s = pred.summary

@@ -99,8 +99,8 @@ Perturbation = Annotated[
     typer.Option(
         "--perturbation",
         help="Amplitude of the uniform random numbers added to the start (Fourier "
-        "coefficients of sin(angle/2); an atlas start adds a fifth of it, and none for seed "
-        "0). From standing, "
+        "coefficients of sin(angle/2); an atlas start adds 4 % of it, and none for seed "
+        "0; 0.25 gives an atlas start ±0.01). From standing, "
         "the default keeps the default prediction on the best walking optimum; 0.1 sends more "
         "of a campaign's starts to walking optima (docs/solver.md).",
         rich_help_panel=SOLVER,
@@ -175,6 +175,19 @@ def fail(message: str, code: int = 2) -> None:
     """Print one error line and exit (2 = bad input)."""
     sys.stderr.write(f"walk3d: error: {message}\n")
     raise typer.Exit(code)
+
+
+def warned(func, *args, **kwargs):  # noqa: ANN001, ANN201 - passes func's result through
+    """``func(*args, **kwargs)`` with every warning it raises printed as one line
+    (``walk3d: warning: ...``) instead of Python's two-line form."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = func(*args, **kwargs)
+    for w in caught:
+        sys.stderr.write(f"walk3d: warning: {' '.join(str(w.message).split())}\n")
+    return result
 
 
 def check_output_folder(path: str, option: str = "--out", replaces: str | None = None) -> None:

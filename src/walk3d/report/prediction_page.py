@@ -12,7 +12,6 @@ from __future__ import annotations
 from os import PathLike
 from pathlib import Path
 
-from walk3d.io._atomic import atomic_write_text
 from walk3d.plots.cycles import Panel, cycle_figure
 from walk3d.problem import terms
 from walk3d.problem.settings import recorded_settings
@@ -28,7 +27,6 @@ __all__ = [
     "REPORT",
     "prediction_page",
     "prediction_sections",
-    "write_prediction_report",
 ]
 
 ANIMATION = "animation.mp4"
@@ -201,8 +199,8 @@ def _animation(folder: Path | None, where: str) -> str:
                       "it.")  # fmt: skip
     size = video.stat().st_size
     if size > MAX_VIDEO_BYTES:
-        return (h.note(f"{ANIMATION} is {size / 1e6:.0f} MB, too large to embed:")
-                + f'<p><a href="{h.text(ANIMATION)}">{h.text(ANIMATION)}</a></p>')  # fmt: skip
+        return h.note(f"{ANIMATION} is {size / 1e6:.0f} MB, too large to embed: open "
+                      f"{where}/{ANIMATION} beside this page.")  # fmt: skip
     uri = h.data_uri(video.read_bytes(), "video/mp4")
     return (f'<video controls loop muted playsinline src="{uri}"></video>'
             + h.note(f"{ANIMATION} ({size / 1e6:.2f} MB), embedded."))  # fmt: skip
@@ -243,14 +241,3 @@ def prediction_page(
                     "(per kg of body mass); 0 % = right heel strike.")  # fmt: skip
     sections = prediction_sections(pred, folder, norms, shown_as=where)
     return h.page(f"walk3d prediction: {Path(where).name or where}", *sections, footer)
-
-
-def write_prediction_report(
-    pred: Prediction,
-    folder: str | PathLike[str] | None,
-    out: str | PathLike[str],
-    norms: Norms,
-    shown_as: str | None = None,
-) -> Path:
-    """Write :func:`prediction_page` to ``out`` atomically (UTF-8); returns its path."""
-    return atomic_write_text(out, prediction_page(pred, folder, norms, shown_as))

@@ -42,11 +42,15 @@ def build_report(folder: str | PathLike[str], norms: Norms) -> tuple[str, str]:
     if kind is None:
         raise ValueError(f"{root} is neither a prediction folder (summary.json, written by "
                          "walk3d predict) nor a campaign folder (campaign.json)")  # fmt: skip
-    if kind == "campaign":
-        from walk3d.report.campaign_page import campaign_page
+    try:
+        if kind == "campaign":
+            from walk3d.report.campaign_page import campaign_page
 
-        return kind, campaign_page(root, norms)
-    return kind, prediction_page(load_result(root), root, norms)
+            return kind, campaign_page(root, norms)
+        return kind, prediction_page(load_result(root), root, norms)
+    except (KeyError, TypeError, AttributeError, IndexError, StopIteration) as exc:
+        raise ValueError(f"{root}: a file has unexpected content ({type(exc).__name__}: "
+                         f"{' '.join(str(exc).split())})") from None  # fmt: skip
 
 
 def save_report(folder: str | PathLike[str], kind: str, page: str, out: Path | None) -> Path:
