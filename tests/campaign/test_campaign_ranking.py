@@ -11,6 +11,7 @@ from walk3d.campaign.ranking import COLUMNS, order_records, update_best, write_r
 from walk3d.campaign.task import error_record
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import SOLVE_REVISION
+from walk3d.solve.starts import ATLAS_NOISE_FRACTION
 
 TINY = PredictionSettings(nodes=6, max_iter=3)
 
@@ -98,6 +99,16 @@ def test_resume_may_add_starts_but_not_change_settings(tmp_path):
     # a campaign solved by another solver revision is refused: its starts ran otherwise
     stored = store.read_campaign(out)
     assert stored["solve_revision"] == SOLVE_REVISION
+    # atlas starts drawn with other noise (a fifth of --perturbation before it was recorded)
+    assert stored["atlas_noise_fraction"] == ATLAS_NOISE_FRACTION
+    store.write_json(out / store.CAMPAIGN_FILE, stored | {"atlas_noise_fraction": 0.2})
+    with pytest.raises(store.CampaignMismatch, match="other noise \\(0.2 of --perturbation"):
+        store.open_campaign(out, TINY, 5, 8, "ipopt")
+    standing = {**stored, "atlas_noise_fraction": 0.2}  # control: standing starts have none
+    standing["settings"]["solver"]["start"] = "standing"
+    store.write_json(out / store.CAMPAIGN_FILE, standing)
+    assert store.open_campaign(out, TINY.replace(start="standing"), 5, 8, "ipopt")["starts"] == 8
+    stored["settings"]["solver"]["start"] = TINY.solver.start
     store.write_json(out / store.CAMPAIGN_FILE, stored | {"solve_revision": 10})
     with pytest.raises(store.CampaignMismatch, match=f"revision 10, now {SOLVE_REVISION}\\)"):
         store.open_campaign(out, TINY, 5, 8, "ipopt")

@@ -58,7 +58,7 @@ def test_cli_bad_input_one_line_exit_2(result_folder, tmp_path, case):
     assert not (result_folder / "report.html").exists()
 
 
-def test_predict_writes_the_report_inside_its_atomic_folder(evaluated, tmp_path):
+def test_predict_writes_the_report_into_its_finished_folder(evaluated, tmp_path):
     from walk3d.pipeline import write_result
 
     settings, body, ev = evaluated
@@ -79,3 +79,39 @@ def test_campaign_command_ends_with_the_report(result_folder, tmp_path):
     assert page.startswith("<!DOCTYPE html>") and "Best converged start: seed 0" in page
     kind, path = write_report(out, out=tmp_path / "again.html")
     assert kind == "campaign" and path.read_text(encoding="utf-8") == page
+
+
+def test_a_report_that_fails_leaves_the_result_and_warns(evaluated, tmp_path, monkeypatch):
+    import walk3d.report.writer
+    from walk3d.pipeline import ReportWarning, write_result
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("no page\ntoday")
+
+    monkeypatch.setattr(walk3d.report.writer, "write_report", broken)
+    settings, body, ev = evaluated
+    with pytest.warns(ReportWarning, match="report.html not written in .*: no page today"):
+        out = write_result(make_prediction(settings, ev, converged=True), tmp_path / "o",
+                           figure=False, body=body, report=True)  # fmt: skip
+    check_complete(out)  # the solved result stands
+    assert "report.html" not in json.loads((out / "manifest.json").read_text())["files"]
+
+
+def test_odd_types_in_a_folder_are_one_line_exit_2_and_text_is_escaped(result_folder, tmp_path):
+    from walk3d.results.prediction import record_file
+
+    folder = tmp_path / "odd"
+    shutil.copytree(result_folder, folder)
+    summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+    (folder / "summary.json").write_text(json.dumps(summary | {"status": "<script>x</script>"}))
+    record_file(folder, "summary.json")
+    assert _report(folder).returncode == 0
+    page = (folder / "report.html").read_text(encoding="utf-8")
+    assert "<script>" not in page and "&lt;script&gt;" in page  # escaped, not run
+    odd = summary | {"descriptors": {**summary["descriptors"], "predicted": 5}}
+    (folder / "summary.json").write_text(json.dumps(odd))
+    record_file(folder, "summary.json")
+    r = _report(folder)
+    assert r.returncode == 2, (r.stdout, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "unexpected content" in lines[0] and "Traceback" not in r.stderr
