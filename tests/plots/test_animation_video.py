@@ -76,3 +76,20 @@ def test_cli_writes_into_the_folder_and_its_manifest(atlas_result, tmp_path):
     files = json.loads((folder / "manifest.json").read_text())["files"]
     assert files["animation.mp4"] == (folder / "animation.mp4").stat().st_size
     check_complete(folder)
+
+
+def test_cached_background_frames_equal_full_redraws(atlas_result):
+    """Each frame is the cached background plus the moving artists; it must look like a
+    whole redraw of the figure (anti-aliased edges may differ in a few pixels)."""
+    from walk3d.plots.video import _Scene
+
+    pred, body, _ = atlas_result
+    scene = _Scene(pred, body, cycles=1, fps=FPS)
+    for i in (0, scene.frames.n_frames // 2):
+        fast = scene.frame(i).astype(int)
+        full = scene.frame(i, full=True).astype(int)
+        differ = np.any(np.abs(fast - full) > 40, axis=-1)
+        assert differ.mean() < 5e-4, differ.mean()
+    # control: another frame's drawing differs from this frame's in many pixels
+    other = scene.frame(1).astype(int)
+    assert np.any(np.abs(other - full) > 40, axis=-1).mean() > 5e-3

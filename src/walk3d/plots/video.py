@@ -2,8 +2,10 @@
 frame on an off-screen Matplotlib figure (Agg canvas) and encoded as H.264 by the ffmpeg that
 imageio-ffmpeg ships.
 
-The drawn geometry comes from :func:`walk3d.plots.animation.animation_frames`. The artists are
-made once and only their data change from frame to frame. The video goes to a temporary file
+The drawn geometry comes from :func:`walk3d.plots.animation.animation_frames`. The views follow
+the pelvis by drawing X relative to it, so the axes, labels and ground are drawn once and
+cached; each frame restores them and draws only the moving artists (the sticks, the arrows,
+the walkway marks every 0.25 m and the clock). The video goes to a temporary file
 next to the destination and is moved over it with :func:`os.replace` when complete.
 """
 
@@ -44,7 +46,13 @@ def _views(fig):
     return ax3, side, front
 
 
-def _collections(fig, ax3, side, front, frames: AnimationFrames):
+def _moving(artist):
+    """Mark ``artist`` as drawn per frame over the cached background."""
+    artist.set_animated(True)
+    return artist
+
+
+def _collections(ax3, side, front, frames: AnimationFrames):
     from matplotlib.collections import LineCollection
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
@@ -53,59 +61,65 @@ def _collections(fig, ax3, side, front, frames: AnimationFrames):
     for key in ("l", "", "r"):  # the right side drawn last: nearest in the side view
         mask = sides == key
         kw = {"colors": _COLORS[key], "linewidths": 2.2, "capstyle": "round"}
-        c3 = Line3DCollection([np.zeros((2, 3))], **kw)
+        c3 = _moving(Line3DCollection([np.zeros((2, 3))], **kw))
         ax3.add_collection3d(c3, autolim=False)
-        cs, cf = LineCollection([], **kw), LineCollection([], **kw)
-        side.add_collection(cs)
-        front.add_collection(cf)
+        cs, cf = _moving(LineCollection([], **kw)), _moving(LineCollection([], **kw))
+        side.add_collection(cs, autolim=False)
+        front.add_collection(cf, autolim=False)
         out.append((mask, c3, cs, cf))
     arrows = []
     for k in range(2):
-        color = _COLORS["rl"[k]]
-        arrows.append((ax3.plot([], [], [], color=color, lw=1.5, alpha=0.8)[0],
-                       side.plot([], [], color=color, lw=1.5, alpha=0.8)[0],
-                       front.plot([], [], color=color, lw=1.5, alpha=0.8)[0]))  # fmt: skip
+        kw = {"color": _COLORS["rl"[k]], "lw": 1.5, "alpha": 0.8}
+        arrows.append((_moving(ax3.plot([], [], [], **kw)[0]),
+                       _moving(side.plot([], [], **kw)[0]),
+                       _moving(front.plot([], [], **kw)[0])))  # fmt: skip
     return out, arrows
 
 
-def _ground(ax3, side, front, frames: AnimationFrames, height: float) -> None:
+def _ground(ax3, side, front, frames: AnimationFrames, height: float):
+    """The static ground and axes (the views follow the pelvis: X is drawn relative to it)
+    and the moving marks every 0.25 m of walkway; returns the marks' (3D, side) collections
+    and their absolute X."""
+    from matplotlib.collections import LineCollection
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
+
     x0 = float(np.nanmin(frames.points[..., 0])) - _HALF_WINDOW
     x1 = float(np.nanmax(frames.points[..., 0])) + _HALF_WINDOW
     ticks = np.arange(math.floor(x0 / 0.25) * 0.25, x1 + 0.25, 0.25)
-    for x in ticks:  # across the walkway: how far the walker has come
-        ax3.plot([x, x], [-0.6, 0.6], [0.0, 0.0], color="0.8", lw=0.6)
-        side.plot([x, x], [0.0, -0.03], color="0.6", lw=0.6)
+    marks3 = _moving(Line3DCollection([np.zeros((2, 3))], colors="0.8", linewidths=0.6))
+    ax3.add_collection3d(marks3, autolim=False)
+    marks_side = _moving(LineCollection([], colors="0.6", linewidths=0.6))
+    side.add_collection(marks_side, autolim=False)
     for z in (-0.6, 0.0, 0.6):
-        ax3.plot([x0, x1], [z, z], [0.0, 0.0], color="0.8", lw=0.6)
+        ax3.plot([-_HALF_WINDOW, _HALF_WINDOW], [z, z], [0.0, 0.0], color="0.8", lw=0.6)
     for ax in (side, front):
         ax.axhline(0.0, color="0.4", lw=1.0)
         ax.set_ylim(-0.05, 1.15 * height)
         ax.set_aspect("equal", adjustable="box")
         ax.tick_params(labelsize=7)
         ax.grid(True, linewidth=0.3, alpha=0.5)
-    side.set_xlabel("X forward (m)", fontsize=8)
+    side.set_xlim(-_HALF_WINDOW, _HALF_WINDOW)
+    side.set_xlabel("X forward, from the pelvis (m)", fontsize=8)
     side.set_ylabel("Y up (m)", fontsize=8)
-    side.set_title("side view (from the right)", fontsize=9)
+    side.set_title("side view (from the right), following the pelvis", fontsize=9)
     front.set_xlim(0.7, -0.7)  # seen from in front: the walker's right (+Z) on the left
     front.set_xlabel("Z right (m)", fontsize=8)
     front.set_title("front view", fontsize=9)
+    ax3.set_xlim(-_HALF_WINDOW, _HALF_WINDOW)
     ax3.set_zlim(0.0, 1.15 * height)
     ax3.set_ylim(-_HALF_WINDOW, _HALF_WINDOW)
     ax3.set_box_aspect((2.2, 2.2, 1.15 * height))
     ax3.view_init(elev=12.0, azim=-60.0)
-    ax3.set_axis_off()  # the ground grid (0.25 m along X) stands for the axes: faster
-    ax3.text2D(
-        0.5,
-        0.02,
-        "3D view (ground lines every 0.25 m)",
-        transform=ax3.transAxes,
-        ha="center",
-        fontsize=9,
-    )
+    ax3.set_axis_off()  # the ground grid (0.25 m along X) stands for the axes
+    ax3.text2D(0.5, 0.02, "3D view (ground lines every 0.25 m)", transform=ax3.transAxes,
+               ha="center", fontsize=9)  # fmt: skip
+    return marks3, marks_side, ticks
 
 
-def _update(frames: AnimationFrames, i: int, cols, arrows, ax3, side) -> None:
-    p = frames.points[i]
+def _update(frames: AnimationFrames, i: int, cols, arrows, ground) -> None:
+    x = float(frames.pelvis[i, 0])
+    shift = np.array([x, 0.0, 0.0])
+    p = frames.points[i] - shift
     seg = p[frames.lines]  # (L, 2, 3)
     for mask, c3, cs, cf in cols:
         s = seg[mask]
@@ -114,15 +128,67 @@ def _update(frames: AnimationFrames, i: int, cols, arrows, ax3, side) -> None:
         cf.set_segments(s[..., [2, 1]])
     for k, (a3, a_side, a_front) in enumerate(arrows):
         if frames.loaded[i, k]:
-            ab = np.stack([frames.cop[i, k], frames.grf_tip[i, k]])
+            ab = np.stack([frames.cop[i, k], frames.grf_tip[i, k]]) - shift
         else:
             ab = np.full((2, 3), np.nan)
         a3.set_data_3d(ab[:, 0], -ab[:, 2], ab[:, 1])
         a_side.set_data(ab[:, 0], ab[:, 1])
         a_front.set_data(ab[:, 2], ab[:, 1])
-    x = float(frames.pelvis[i, 0])
-    ax3.set_xlim(x - _HALF_WINDOW, x + _HALF_WINDOW)
-    side.set_xlim(x - _HALF_WINDOW, x + _HALF_WINDOW)
+    marks3, marks_side, ticks = ground
+    rel = ticks[np.abs(ticks - x) <= _HALF_WINDOW] - x
+    marks3.set_segments([[(u, -0.6, 0.0), (u, 0.6, 0.0)] for u in rel])
+    marks_side.set_segments([[(u, 0.0), (u, -0.03)] for u in rel])
+
+
+class _Scene:
+    """The figure of one animation: :meth:`frame` draws frame ``i`` over the cached background
+    (``full=True``: a whole redraw, the reference the cached drawing must equal)."""
+
+    def __init__(self, pred: Prediction, body: BodyModel, cycles: int, fps: float) -> None:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+
+        self.frames = frames = animation_frames(pred, body, cycles=cycles, fps=fps)
+        self.cycles = cycles
+        width, height = FRAME_SIZE
+        fig = Figure(figsize=(width / _DPI, height / _DPI), dpi=_DPI)
+        self.canvas = FigureCanvasAgg(fig)
+        ax3, side, front = _views(fig)
+        self.ground = _ground(ax3, side, front, frames, body.height)
+        self.cols, self.arrows = _collections(ax3, side, front, frames)
+        d = pred.summary.get("descriptors") or {}
+        head = "walk3d prediction"
+        if isinstance(d, dict) and "speed" in d:
+            head += f": V = {float(d['speed']):.2f} m/s, T = {frames.period:.3f} s"
+        fig.suptitle(f"{head}; arrows: ground reaction, 1 m = body weight", fontsize=10,
+                     x=0.02, ha="left")  # fmt: skip
+        self.clock = _moving(fig.text(0.98, 0.98, "", fontsize=10, ha="right", va="top"))
+        self.moving = [*self.ground[:2], *(a for c in self.cols for a in c[1:]),
+                       *(a for arrow in self.arrows for a in arrow), self.clock]  # fmt: skip
+        self.canvas.draw()  # everything but the moving artists, once
+        self.background = self.canvas.copy_from_bbox(fig.bbox)
+
+    def frame(self, i: int, full: bool = False) -> np.ndarray:
+        """Frame ``i``, RGB (height, width, 3) uint8."""
+        f = self.frames
+        _update(f, i, self.cols, self.arrows, self.ground)
+        cycle = int(f.time[i] // f.period) + 1
+        self.clock.set_text(f"t = {f.time[i]:5.2f} s (cycle {cycle} of {self.cycles})")
+        if full:
+            for artist in self.moving:
+                artist.set_animated(False)
+            try:
+                self.canvas.draw()
+            finally:
+                for artist in self.moving:
+                    artist.set_animated(True)
+        else:
+            self.canvas.restore_region(self.background)
+            for artist in self.moving:
+                if hasattr(artist, "do_3d_projection"):
+                    artist.do_3d_projection()
+                (artist.axes or artist.figure).draw_artist(artist)
+        return np.ascontiguousarray(np.asarray(self.canvas.buffer_rgba())[..., :3])
 
 
 def write_animation(
@@ -145,24 +211,11 @@ def write_animation(
         OSError: the video could not be written (nothing is left behind).
     """
     import imageio_ffmpeg
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
 
     from walk3d.results.osim_model import prediction_body
 
-    body = body or prediction_body(pred)
-    frames = animation_frames(pred, body, cycles=cycles, fps=fps)
+    scene = _Scene(pred, body or prediction_body(pred), cycles, fps)
     width, height = FRAME_SIZE
-    fig = Figure(figsize=(width / _DPI, height / _DPI), dpi=_DPI)
-    canvas = FigureCanvasAgg(fig)
-    ax3, side, front = _views(fig)
-    _ground(ax3, side, front, frames, body.height)
-    cols, arrows = _collections(fig, ax3, side, front, frames)
-    d = pred.summary.get("descriptors") or {}
-    head = "walk3d prediction"
-    if isinstance(d, dict) and "speed" in d:
-        head += f": V = {float(d['speed']):.2f} m/s, T = {frames.period:.3f} s"
-    title = fig.suptitle("", fontsize=10, x=0.02, ha="left")
 
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -173,15 +226,9 @@ def write_animation(
     )  # fmt: skip
     try:
         writer.send(None)
-        n = frames.n_frames
+        n = scene.frames.n_frames
         for i in range(n):
-            _update(frames, i, cols, arrows, ax3, side)
-            cycle = int(frames.time[i] // frames.period) + 1
-            title.set_text(f"{head}   t = {frames.time[i]:5.2f} s (cycle {cycle} of {cycles}); "
-                           "arrows: ground reaction, 1 m = body weight")  # fmt: skip
-            canvas.draw()
-            rgb = np.asarray(canvas.buffer_rgba())[..., :3]
-            writer.send(np.ascontiguousarray(rgb).tobytes())
+            writer.send(scene.frame(i).tobytes())
             if on_frame is not None:
                 on_frame(i + 1, n)
         writer.close()
