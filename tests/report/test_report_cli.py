@@ -82,13 +82,13 @@ def test_campaign_command_ends_with_the_report(result_folder, tmp_path):
 
 
 def test_a_report_that_fails_leaves_the_result_and_warns(evaluated, tmp_path, monkeypatch):
-    import walk3d.report.writer
+    import walk3d.report.prediction_page
     from walk3d.pipeline import ReportWarning, write_result
 
     def broken(*args, **kwargs):
         raise RuntimeError("no page\ntoday")
 
-    monkeypatch.setattr(walk3d.report.writer, "write_report", broken)
+    monkeypatch.setattr(walk3d.report.prediction_page, "prediction_page", broken)
     settings, body, ev = evaluated
     with pytest.warns(ReportWarning, match="report.html not written in .*: no page today"):
         out = write_result(make_prediction(settings, ev, converged=True), tmp_path / "o",

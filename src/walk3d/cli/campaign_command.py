@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from typing import Annotated
 
 import typer
@@ -34,7 +35,6 @@ from walk3d.cli.common import (
     gait_fields,
     paper_case,
     settings_from_options,
-    warned,
 )
 from walk3d.problem.terms import DEFAULT_PRESET
 
@@ -146,8 +146,12 @@ def campaign(
 def _write_report(out: str) -> None:
     """``DIR/report.html`` at the end of a campaign; a failure is one warning line and leaves
     the exit code as it is."""
-    from walk3d.pipeline import write_report_or_warn
+    from walk3d.report.writer import write_report
 
-    path = warned(write_report_or_warn, out)
-    if path is not None:
-        console.print(f"report: {path}", markup=False, highlight=False)
+    try:
+        _, path = write_report(out)
+    except Exception as exc:  # noqa: BLE001 - the page is optional, the ranking is not
+        sys.stderr.write(f"walk3d: warning: report.html not written in {out}: "
+                         f"{' '.join(str(exc).split())}\n")  # fmt: skip
+        return
+    console.print(f"report: {path}", markup=False, highlight=False)
