@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from walk3d.constants import G
 from walk3d.io import DataFileError, read_c3d
 from walk3d.results.lab_trial import ANALOG_RATIO, LAB_FROM_WALK3D, write_markers_c3d
 from walk3d.results.markers import MARKER_LABELS, marker_positions, marker_set
@@ -19,8 +20,6 @@ from walk3d.trials.c3d_trial import read_c3d_trial
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verify"))
 ezc3d = pytest.importorskip("ezc3d")
-
-G = 9.81
 
 
 @pytest.fixture(scope="module")
@@ -214,3 +213,25 @@ def _timed(fn) -> float:
     start = time.perf_counter()
     fn()
     return time.perf_counter() - start
+
+
+def test_plate_frame_points_down_and_the_load_on_it_is_positive_fz(atlas) -> None:
+    """The documented plate frame: corners numbered so that its z axis points down (AMTI), so
+    the force *on* the plate during a stance is positive Fz (the foot pushes down)."""
+    pred, _, folder, _, _ = atlas
+    c3d = ezc3d.c3d(str(folder / "markers.c3d"))
+    corners = np.asarray(c3d["parameters"]["FORCE_PLATFORM"]["CORNERS"]["value"])  # (3, 4, n)
+    labels = c3d["parameters"]["ANALOG"]["LABELS"]["value"]
+    analogs = np.asarray(c3d["data"]["analogs"])[0]  # (channels, samples)
+
+    def down(c: np.ndarray) -> float:  # z of the plate frame from its corner order
+        x, y = c[:, 0] - c[:, 1], c[:, 0] - c[:, 3]
+        return float(np.cross(x, y)[2])
+
+    for k in range(corners.shape[2]):
+        assert down(corners[:, :, k]) < 0  # the plate's z axis points into the floor
+        fz = analogs[labels.index(f"Fz{k + 1}")]
+        assert (
+            fz.max() > 0.5 * pred.body_mass * G and fz.min() >= -1e-6
+        )  # loaded, and never pulled up
+    assert down(corners[:, ::-1, 0]) > 0  # control: the reversed corner order points up
