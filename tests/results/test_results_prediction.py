@@ -155,6 +155,30 @@ def test_an_incomplete_result_folder_is_refused(saved, tmp_path, damage):
         load_result(bad)
 
 
+def test_a_view_rewritten_before_its_manifest_entry_is_still_complete(saved, tmp_path):
+    """A view (report.html, ...) is replaced atomically and then its size recorded: a crash
+    between the two leaves a stale size, which must not make the result unreadable."""
+    import shutil
+
+    from walk3d.results.prediction import VIEW_FILES, record_file
+
+    _, out = saved
+    folder = tmp_path / "views"
+    shutil.copytree(out, folder)
+    (folder / "report.html").write_text("<p>first</p>")
+    record_file(folder, "report.html")
+    (folder / "report.html").write_text("<p>the page made again, longer</p>")  # no record
+    assert "report.html" in VIEW_FILES
+    load_result(folder)  # still complete
+    (folder / "report.html").unlink()
+    with pytest.raises(DataFileError, match="report.html is missing"):  # but it must be there
+        load_result(folder)
+    text = (folder / "grf.mot").read_text()  # control: a result file's size still counts
+    (folder / "grf.mot").write_text(text + "\n")
+    with pytest.raises(DataFileError, match="incomplete"):
+        load_result(folder)
+
+
 def test_load_round_trip(saved):
     pred, out = saved
     back = load_result(out)

@@ -72,6 +72,11 @@ they are checked only where the manifest lists them."""
 C3D_FILES = ("markers.c3d",)
 """Also written by :func:`save_prediction`, checked like :data:`OPENSIM_FILES`."""
 
+VIEW_FILES = ("summary.png", "animation.mp4", "report.html")
+"""Views of the result, remade from it at any time and each replaced atomically: their listed
+size may lag a rewrite that ended before the manifest was updated, so only their presence is
+checked."""
+
 MANIFEST = "manifest.json"
 """Written last into a result folder: every file's name and size in bytes."""
 
@@ -245,7 +250,8 @@ def save_prediction(
 
 def check_complete(out_dir: str | PathLike[str]) -> None:
     """Raise :class:`DataFileError` unless ``out_dir`` is a complete result folder: its
-    ``manifest.json`` is readable and every file it lists is there with the listed size."""
+    ``manifest.json`` is readable and every file it lists is there with the listed size (for
+    :data:`VIEW_FILES`, only there)."""
     out = Path(out_dir)
     path = out / MANIFEST
     if not out.is_dir():
@@ -263,7 +269,7 @@ def check_complete(out_dir: str | PathLike[str]) -> None:
         f = out / name
         if not f.is_file():
             raise DataFileError(out, f"incomplete result folder: {name} is missing")
-        if name in files and f.stat().st_size != files[name]:
+        if name in files and name not in VIEW_FILES and f.stat().st_size != files[name]:
             raise DataFileError(
                 f, f"incomplete result file: {f.stat().st_size} bytes, manifest says {files[name]}"
             )
