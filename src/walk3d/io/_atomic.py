@@ -15,6 +15,7 @@ from typing import IO
 __all__ = [
     "TMP_PREFIX",
     "atomic_folder",
+    "atomic_path",
     "atomic_write",
     "atomic_write_bytes",
     "atomic_write_text",
@@ -43,6 +44,23 @@ def atomic_write(path: str | PathLike[str], write: Callable[[IO[bytes]], object]
         tmp.unlink(missing_ok=True)
         raise
     return target
+
+
+@contextmanager
+def atomic_path(path: str | PathLike[str], suffix: str = ".tmp") -> Iterator[Path]:
+    """A temporary path next to ``path`` for a writer that takes a file name (ezc3d, ffmpeg):
+    when the block ends the file is synced and moved over ``path``; on any failure it is
+    removed and an existing ``path`` is left untouched. ``suffix`` ends the temporary name."""
+    target = Path(path)
+    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}{suffix}")
+    try:
+        yield tmp
+        with open(tmp, "rb") as handle:
+            os.fsync(handle.fileno())
+        os.replace(tmp, target)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def atomic_write_bytes(path: str | PathLike[str], data: bytes) -> Path:

@@ -20,7 +20,6 @@ The file is written atomically (:mod:`walk3d.io._atomic`).
 
 from __future__ import annotations
 
-import secrets
 from collections.abc import Sequence
 from dataclasses import dataclass
 from os import PathLike
@@ -28,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from walk3d.io._atomic import atomic_write_bytes
+from walk3d.io._atomic import atomic_path
 
 __all__ = ["RATE_STEP", "C3dEvent", "PlateLoads", "file_rate", "plate_axes", "write_c3d"]
 
@@ -141,14 +140,9 @@ def write_c3d(
     c3d.add_parameter("MANUFACTURER", "COMPANY", [software])
     c3d.add_parameter("MANUFACTURER", "SOFTWARE", [software])
 
-    target = Path(path)
-    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp.c3d")
-    try:
+    with atomic_path(path, suffix=".tmp.c3d") as tmp:  # ezc3d writes by file name
         c3d.write(str(tmp))
-        atomic_write_bytes(target, tmp.read_bytes())
-    finally:
-        tmp.unlink(missing_ok=True)
-    return target
+    return Path(path)
 
 
 def _add_plates(c3d: object, plates: Sequence[PlateLoads], n_analog: int) -> None:

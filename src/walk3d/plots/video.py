@@ -12,8 +12,6 @@ next to the destination and is moved over it with :func:`os.replace` when comple
 from __future__ import annotations
 
 import math
-import os
-import secrets
 from collections.abc import Callable
 from os import PathLike
 from pathlib import Path
@@ -21,6 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from walk3d.io._atomic import atomic_path
 from walk3d.plots.animation import AnimationFrames, animation_frames
 
 if TYPE_CHECKING:
@@ -219,24 +218,19 @@ def write_animation(
 
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp")
-    writer = imageio_ffmpeg.write_frames(
-        str(tmp), (width, height), fps=fps, codec="libx264", pix_fmt_in="rgb24",
-        macro_block_size=16, quality=6, output_params=["-f", "mp4"], ffmpeg_log_level="error",
-    )  # fmt: skip
-    try:
-        writer.send(None)
-        n = scene.frames.n_frames
-        for i in range(n):
-            writer.send(scene.frame(i).tobytes())
-            if on_frame is not None:
-                on_frame(i + 1, n)
-        writer.close()
-        with open(tmp, "rb") as handle:
-            os.fsync(handle.fileno())
-        os.replace(tmp, target)
-    except BaseException:
-        writer.close()
-        tmp.unlink(missing_ok=True)
-        raise
+    with atomic_path(target) as tmp:
+        writer = imageio_ffmpeg.write_frames(
+            str(tmp), (width, height), fps=fps, codec="libx264", pix_fmt_in="rgb24",
+            macro_block_size=16, quality=6, output_params=["-f", "mp4"],
+            ffmpeg_log_level="error",
+        )  # fmt: skip
+        try:
+            writer.send(None)
+            n = scene.frames.n_frames
+            for i in range(n):
+                writer.send(scene.frame(i).tobytes())
+                if on_frame is not None:
+                    on_frame(i + 1, n)
+        finally:
+            writer.close()
     return target
