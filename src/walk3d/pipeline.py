@@ -190,16 +190,14 @@ class ReportWarning(UserWarning):
 def write_report_or_warn(folder: str | Path) -> Path | None:
     """Write ``folder/report.html`` (:mod:`walk3d.report.prediction_page`); on any failure
     warn (:class:`ReportWarning`, one line) and return None: a result stands without its page."""
-    from walk3d.io._atomic import atomic_write_text
     from walk3d.report.norms import find_data, load_norms
-    from walk3d.report.prediction_page import REPORT, prediction_page
-    from walk3d.results.prediction import load_result, record_file
+    from walk3d.report.prediction_page import prediction_page
+    from walk3d.report.saving import save_report
+    from walk3d.results.prediction import load_result
 
     try:
         page = prediction_page(load_result(folder), folder, load_norms(find_data()))
-        target = atomic_write_text(Path(folder) / REPORT, page)
-        record_file(folder, REPORT)
-        return target
+        return save_report(folder, "prediction", page, None)
     except Exception as exc:  # noqa: BLE001 - the page is optional, the result is not
         warnings.warn(f"report.html not written in {folder}: {' '.join(str(exc).split())}",
                       ReportWarning, stacklevel=2)  # fmt: skip

@@ -12,10 +12,10 @@ from __future__ import annotations
 from os import PathLike
 from pathlib import Path
 
-from walk3d.io._atomic import atomic_write_text
 from walk3d.report.norms import Norms, find_data, load_norms
-from walk3d.report.prediction_page import REPORT, prediction_page
-from walk3d.results.prediction import load_result, record_file
+from walk3d.report.prediction_page import prediction_page
+from walk3d.report.saving import save_report
+from walk3d.results.prediction import load_result
 
 __all__ = ["build_report", "folder_kind", "save_report", "write_report"]
 
@@ -51,17 +51,6 @@ def build_report(folder: str | PathLike[str], norms: Norms) -> tuple[str, str]:
     except (KeyError, TypeError, AttributeError, IndexError, StopIteration) as exc:
         raise ValueError(f"{root}: a file has unexpected content ({type(exc).__name__}: "
                          f"{' '.join(str(exc).split())})") from None  # fmt: skip
-
-
-def save_report(folder: str | PathLike[str], kind: str, page: str, out: Path | None) -> Path:
-    """Write ``page`` atomically to ``out`` (default ``folder/report.html``), listed in the
-    manifest when it lands in a prediction folder; returns its path."""
-    root = Path(folder)
-    target = out if out is not None else root / REPORT
-    atomic_write_text(target, page)
-    if kind == "prediction" and target.resolve().parent == root.resolve():
-        record_file(root, target.name)
-    return target
 
 
 def write_report(
