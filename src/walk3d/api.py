@@ -87,14 +87,11 @@ class Prediction(_Prediction):
     def plot(self, path: str | PathLike[str] | None = None) -> Figure:
         """The summary figure (joint angles in degrees, ground reactions in N/kg), also written
         as a PNG to ``path`` when given."""
-        from walk3d.io._atomic import atomic_write
-        from walk3d.plots import summary_plot
+        from walk3d.plots.summary import save_png, summary_plot
 
         fig = summary_plot(self)
         if path is not None:
-            target = Path(path)
-            target.parent.mkdir(parents=True, exist_ok=True)
-            atomic_write(target, lambda handle: fig.savefig(handle, format="png"))
+            save_png(fig, path)
         return fig
 
     def save(self, out_dir: str | PathLike[str], *, figure: bool = True, animate: bool = False,

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import shutil
+import sys
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -13,31 +14,14 @@ import numpy as np
 import pytest
 from helpers import shared_data_dir
 
-import walk3d.solve.atlas as atlas_module
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verify"))
+from verify_support import evaluate_atlas  # noqa: E402, F401 - the shared atlas solution
 
-SPEED = 1.3
 DATA = shared_data_dir()
 needs_data = pytest.mark.skipif(
     not (DATA / "falisse2019" / "cycle_right_leg_mean_sd.csv").is_file(),
     reason=f"measured data not found in {DATA} (../shared/data)",
 )
-
-
-def evaluate_atlas():
-    """``(settings, body, evaluation)`` of the atlas solution at 1.3 m/s."""
-    from walk3d.problem.settings import PredictionSettings, body_for
-    from walk3d.results.evaluate import evaluate_cycle
-
-    path = Path(atlas_module.__file__).parent / "atlas_data" / "male-natural.json"
-    data = json.loads(path.read_text(encoding="utf-8"))
-    entry = next(e for e in data["entries"] if abs(e["speed"] - SPEED) < 1e-9)
-    settings = PredictionSettings(
-        gait={"speed": SPEED, "period": entry["period"],
-              "double_support": entry["double_support"]},
-        model=data["settings"]["model"],
-    )  # fmt: skip
-    body = body_for(settings)
-    return settings, body, evaluate_cycle(body, settings, np.array(entry["x"]))
 
 
 def make_prediction(settings, ev, converged: bool, seed: int = 0):

@@ -20,9 +20,10 @@ needs_opensim = pytest.mark.skipif(
 )
 
 
-def atlas_prediction():
+def evaluate_atlas():
+    """``(settings, body, evaluation)`` of the shipped male atlas solution at 1.3 m/s."""
     from walk3d.problem.settings import PredictionSettings, body_for
-    from walk3d.results.evaluate import evaluate_cycle, make_prediction
+    from walk3d.results.evaluate import evaluate_cycle
 
     path = Path(atlas_module.__file__).parent / "atlas_data" / "male-natural.json"
     data = json.loads(path.read_text(encoding="utf-8"))
@@ -33,5 +34,12 @@ def atlas_prediction():
         model=data["settings"]["model"],
     )  # fmt: skip
     body = body_for(settings)
-    ev = evaluate_cycle(body, settings, np.array(entry["x"]))
+    return settings, body, evaluate_cycle(body, settings, np.array(entry["x"]))
+
+
+def atlas_prediction():
+    """``(prediction, body)`` of :func:`evaluate_atlas`, with only its settings as summary."""
+    from walk3d.results.evaluate import make_prediction
+
+    settings, body, ev = evaluate_atlas()
     return make_prediction(ev.prediction_arrays, {"settings": settings.model_dump()}), body

@@ -210,7 +210,11 @@ def summary_figure(
     Returns:
         The path written.
     """
+    return save_png(_draw(pred, figsize, dpi), path)
+
+
+def save_png(fig: Figure, path: str | PathLike[str]) -> Path:
+    """Write ``fig`` as a PNG atomically (the folder created if needed); returns the path."""
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
-    fig = _draw(pred, figsize, dpi)
     return atomic_write(target, lambda handle: fig.savefig(handle, format="png"))
