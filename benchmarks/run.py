@@ -150,7 +150,7 @@ def main(argv: list[str] | None = None) -> int:
                      "contact_residual_m": ev.contact_residual_m, **checks})  # fmt: skip
         print(f"seed {seed:3d}: {out.status:28s} {out.iterations:4d} it {out.wall_time_s:6.1f} s "
               f"{label} {crit:8.3f} knee {checks['knee_swing_max_deg']:4.0f} "
-              f"hip {checks['hip_stance_max_deg']:4.0f} "
+              f"hip {checks['hip_midstance_deg']:4.0f} mid-stance "
               f"walking {checks['looks_like_walking']}", flush=True)  # fmt: skip
         summarize()
         if args.baseline and len(runs) == 1:

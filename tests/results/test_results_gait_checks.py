@@ -10,7 +10,9 @@ from walk3d.results.gait_checks import walking_checks
 T, TD, MASS = 1.08, 0.16, 70.0
 
 
-def _arrays(knee_peak_deg: float, humps: bool, hip_stance_peak_deg: float = 30.0) -> dict:
+def _arrays(
+    knee_peak_deg: float, humps: bool, hip_stance_peak_deg: float = 30.0, hip_floor_deg: float = 0.0
+) -> dict:
     ph = GaitPhases(T, TD)
     t = np.linspace(0.0, T, 101)
     stance = ph.in_stance(t, "r")
@@ -24,7 +26,9 @@ def _arrays(knee_peak_deg: float, humps: bool, hip_stance_peak_deg: float = 30.0
     grf[:, 0, 1] = fy
     angles = np.zeros((101, 2))
     angles[:, 1] = knee
-    angles[:, 0] = np.where(stance, np.radians(hip_stance_peak_deg) * np.cos(np.pi * s), 0.0)
+    # from its peak at heel strike to extension at toe off, but not below ``hip_floor_deg``
+    hip = np.maximum(hip_stance_peak_deg * np.cos(np.pi * s), hip_floor_deg)
+    angles[:, 0] = np.where(stance, np.radians(hip), 0.0)
     return {"time": t, "dof_names": ["hip_flexion_r", "knee_flexion_r"], "joint_angle": angles,
             "grf_force": grf}  # fmt: skip
 
@@ -42,13 +46,22 @@ def test_flat_force_or_stiff_knee_fails():
 
 
 def test_crouched_hip_fails_only_the_third_check():
-    """The crouched optima pass the issue's two checks with a hip flexed ~65° in stance."""
-    crouched = walking_checks(_arrays(42.0, True, hip_stance_peak_deg=65.0), T, TD, MASS)
+    """The crouched optima pass the issue's two checks with the hip flexed through stance."""
+    crouched = walking_checks(_arrays(42.0, True, 65.0, hip_floor_deg=40.0), T, TD, MASS)
     assert crouched["issue_checks"] and not crouched["upright_stance"]
     assert not crouched["looks_like_walking"]
     assert abs(crouched["hip_stance_max_deg"] - 65.0) < 1.0
+    assert crouched["hip_midstance_deg"] > 39.0
     upright = walking_checks(_arrays(42.0, True, hip_stance_peak_deg=36.0), T, TD, MASS)
     assert upright["upright_stance"] and upright["looks_like_walking"]
+
+
+def test_a_long_stride_is_not_a_crouch():
+    """A hip flexed 50° at heel strike that extends through stance walks; mid-stance is the
+    middle third of stance, where this cosine crosses zero (sampled: within 10°)."""
+    long = walking_checks(_arrays(60.0, True, hip_stance_peak_deg=50.0), T, TD, MASS)
+    assert long["hip_stance_max_deg"] > 49.0 and abs(long["hip_midstance_deg"]) < 10.0
+    assert long["upright_stance"] and long["looks_like_walking"]
 
 
 def test_roughness_is_the_share_above_the_third_harmonic():

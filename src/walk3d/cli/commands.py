@@ -253,7 +253,7 @@ def predict(
     t.add_row(
         "looks like walking",
         f"{'yes' if g['looks_like_walking'] else 'no'} (knee {g['knee_swing_max_deg']:.0f} deg in "
-        f"swing, hip {g['hip_stance_max_deg']:.0f} deg in stance, two Fy humps: "
+        f"swing, hip {g['hip_midstance_deg']:.0f} deg in mid-stance, two Fy humps: "
         f"{'yes' if g['two_fy_humps'] else 'no'})",
     )
     console.print(t)

@@ -54,6 +54,13 @@ class GaitPhases:
     def toe_off_l(self) -> float:
         return self.period / 2
 
+    @property
+    def mid_stance(self) -> tuple[float, float]:
+        """The middle third of a foot's stance (``T/2 + Td`` long), as times since its heel
+        strike, s: single support, with the other foot in mid-swing."""
+        stance = self.period / 2 + self.double_support
+        return stance / 3, 2 * stance / 3
+
     def _phase(self, t) -> np.ndarray:
         return np.mod(np.asarray(t, dtype=float), self.period)
 

@@ -215,9 +215,9 @@ class SolverSettings(_Group):
     """How often a start that did not converge is tried again from a new standing start (the
     seed's next noise stream). 0: one try, as in the paper."""
     reject_crouch: bool = True
-    """Treat a converged full stage that flexes the hip more than 45° in stance (a crouched
-    local optimum, :mod:`walk3d.solve.upright`) as not converged while a retry or restart is
-    left, so that the start is tried again. The last try's optimum is kept whatever its
+    """Treat a converged full stage that flexes the hip more than 27° on average in mid-stance
+    (a crouched local optimum, :mod:`walk3d.solve.upright`) as not converged while a retry or
+    restart is left, so that the start is tried again. The last try's optimum is kept whatever its
     posture, and labelled by ``gait_checks``."""
 
     @field_validator("balance_progress_check", mode="before")

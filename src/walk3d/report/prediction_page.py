@@ -114,9 +114,9 @@ def _convergence(summary: dict) -> str:
             1000 * v if isinstance(v := summary.get("double_support_contact_residual_m"), float)
             else None, ".3f", "mm")),
         ("looks like walking", h.fmt(g.get("looks_like_walking"))),
-        ("knee flexion in swing, hip flexion in stance",
+        ("knee flexion in swing, hip flexion in mid-stance",
          f"{h.fmt(g.get('knee_swing_max_deg'), '.0f', 'deg')}, "
-         f"{h.fmt(g.get('hip_stance_max_deg'), '.0f', 'deg')}"),
+         f"{h.fmt(g.get('hip_midstance_deg'), '.0f', 'deg')}"),
         ("peak vertical GRF", h.fmt(g.get("peak_vertical_grf_bw"), ".2f", "body weights")),
     ]  # fmt: skip
     return h.table(("quantity", "value"), rows, numeric=False)

@@ -10,9 +10,11 @@ and a third one, because those two pass the crouched local optima that most rand
 reach (C_tor about 6.3–7.4 against 1.9–3.7 for walking, yet knee about 40° in swing and two
 force humps; docs/solver.md):
 
-* the hip flexes at most 45° in stance. Real gait flexes it about 30–35° at heel strike; the
-  walking optima here stay within 41°, the crouched ones flex it 52–67° (docs/solver.md). The
-  knee's minimum in stance does not separate them: the crouch is at the hip.
+* the hip flexes at most 27° on average over the middle third of stance
+  (:data:`walk3d.solve.upright.HIP_MIDSTANCE_MAX_DEG`, the solver's own crouch check). A crouch
+  keeps the hip flexed through stance; a long stride flexes it at heel strike only, so the
+  stance maximum (``hip_stance_max_deg``, reported too) confuses the two at fast speeds. The
+  knee does not separate them: walk3d's walking optima flex it about 30° in mid-stance too.
 
 A converged optimum can fail any of them: :func:`walking_checks` reports each, and
 ``looks_like_walking`` is true only when all three pass (``issue_checks`` holds the issue's
@@ -25,14 +27,15 @@ import numpy as np
 
 from walk3d.constants import G
 from walk3d.contact.phases import GaitPhases
+from walk3d.solve.upright import HIP_MIDSTANCE_MAX_DEG
 
 KNEE_SWING_MIN_DEG = 40.0
 HUMP_MIN_BW = 0.1
-HIP_STANCE_MAX_DEG = 45.0
 
 
 def walking_checks(arrays: dict, period: float, double_support: float, mass: float) -> dict:
-    """Knee flexion in swing, hip flexion in stance and the vertical-force humps (right foot).
+    """Knee flexion in swing, hip flexion in stance and mid-stance, and the vertical-force humps
+    (right foot).
 
     ``arrays`` is a prediction's array dict (``time`` in s, ``dof_names``, ``joint_angle`` in
     rad with time first, ``grf_force`` (N, 2, 3) in N with feet [right, left]); ``period`` and
@@ -48,6 +51,10 @@ def walking_checks(arrays: dict, period: float, double_support: float, mass: flo
     hip = angles[:, names.index("hip_flexion_r")]
     knee_max = float(knee[~stance].max()) if (~stance).any() else float("nan")
     hip_max = float(hip[stance].max()) if stance.any() else float("nan")
+    lo, hi = ph.mid_stance
+    since = np.mod(t - ph.heel_strike_r, period)
+    mid = (since >= lo) & (since <= hi)
+    hip_mid = float(hip[mid].mean()) if mid.any() else float("nan")
     fy = np.asarray(arrays["grf_force"])[:, 0, 1] / (mass * G)
     f = fy[stance & (fy > 0.05)]
     humps = (float("nan"),) * 3
@@ -57,12 +64,13 @@ def walking_checks(arrays: dict, period: float, double_support: float, mass: flo
         humps = (float(f[i1]), float(f[i1 : i2 + 1].min()), float(f[i2]))
     two_humps = bool(humps[0] - humps[1] > HUMP_MIN_BW and humps[2] - humps[1] > HUMP_MIN_BW)
     issue = bool(knee_max >= KNEE_SWING_MIN_DEG and two_humps)
-    upright = bool(hip_max <= HIP_STANCE_MAX_DEG)
+    upright = bool(hip_mid <= HIP_MIDSTANCE_MAX_DEG)
     return {
         "knee_swing_max_deg": knee_max,
         "fy_first_dip_second_bw": list(humps),
         "two_fy_humps": two_humps,
         "hip_stance_max_deg": hip_max,
+        "hip_midstance_deg": hip_mid,
         "upright_stance": upright,
         "issue_checks": issue,
         "looks_like_walking": issue and upright,

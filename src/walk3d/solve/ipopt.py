@@ -181,12 +181,19 @@ def _descriptors(solver: Solver, z: np.ndarray, scale: float) -> dict[str, float
 
 def _reject_crouch(solver: Solver, z: np.ndarray, record: dict, note) -> None:
     """Relabel a crouched optimum as not converged (``settings.solver.reject_crouch``)."""
-    if not solver.settings.solver.reject_crouch or not upright.crouched(z, solver.layout):
+    if not solver.settings.solver.reject_crouch:
         return
-    hip = upright.stance_hip_flexion_deg(z, solver.layout)
+    gait, lay = solver.settings.gait, solver.layout
+    ratio = gait.double_support / gait.period
+    if lay.n_s:
+        period, double_support = np.asarray(z)[lay.z("s")]
+        ratio = double_support / period
+    hip = upright.midstance_hip_flexion_deg(z, lay, ratio, solver.settings.solver.nodes)
+    if hip <= upright.HIP_MIDSTANCE_MAX_DEG:
+        return
     record["optimum_status"], record["status"] = record["status"], upright.CROUCHED
-    record["stance_hip_flexion_deg"] = hip
-    note(f"the optimum is crouched (hip flexed {hip:.0f} deg in stance): trying again")
+    record["midstance_hip_flexion_deg"] = hip
+    note(f"the optimum is crouched (hip flexed {hip:.0f} deg in mid-stance): trying again")
 
 
 def solve(

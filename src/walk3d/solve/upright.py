@@ -1,35 +1,48 @@
-"""Is a converged optimum crouched? The hip's flexion in stance, read from the NLP's nodes.
+"""Is a converged optimum crouched? The hip's flexion in mid-stance, read from the NLP's nodes.
 
 Most random standing starts end in crouched local optima (C_tor 4–7 against 1.9–3.7 for
-walking, docs/solver.md): the knee still flexes in swing, but the hip flexes 52–67° in stance,
-where walking stays within about 40°. :func:`stance_hip_flexion_deg` reads the right hip's
-flexion coordinate at the nodes (the right foot's stance: every node of the half cycle), so
-the check needs no evaluation of the cycle. The threshold is that of
-:data:`walk3d.results.gait_checks.HIP_STANCE_MAX_DEG`.
+walking, docs/solver.md): the knee still flexes in swing, but the hip stays flexed through
+stance. A long stride flexes the hip as much at heel strike, and extends it by mid-stance, so
+the check reads mid-stance (:attr:`walk3d.contact.phases.GaitPhases.mid_stance`): the mean
+right-hip flexion over the nodes in the middle third of the right stance, which every node
+grid covers (the nodes span the half cycle from the right heel strike).
+:mod:`walk3d.results.gait_checks` applies the same threshold to the evaluated cycle.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from walk3d.contact.phases import GaitPhases
 from walk3d.problem import layout
 
+HIP_MIDSTANCE_MAX_DEG = 27.0
+"""Mean hip flexion over the middle third of stance above which a gait counts as crouched,
+deg: midway between walk3d's walking optima (at most 21° at 0.6–2.0 m/s) and its crouched
+ones (32° and more); measured adults: 5° (Falisse 2019). docs/solver.md, session 24."""
 HIP_FLEXION_COORD = 14
 """Coordinate index of the right hip's flexion (about its z axis; :data:`layout.COORD_SOURCE`)."""
-CROUCH_HIP_DEG = 45.0
-"""Stance hip flexion above which an optimum counts as crouched, deg."""
 CROUCHED = "Crouched_Optimum"
 """The status a rejected full stage is given (not a success, so the plan retries)."""
 
 
-def stance_hip_flexion_deg(z: np.ndarray, lay: layout.NlpLayout) -> float:
-    """Largest right-hip flexion at the nodes of the decision vector ``z``, deg (``2 asin q``
-    of the flexion coordinate, which is the flexion angle to first order)."""
+def node_fractions(nodes: int, regular: int) -> np.ndarray:
+    """Each node's time since the right heel strike over the period T: ``k / (2 regular)`` for
+    the regular grid, with the ``nodes - regular`` extra heel-strike nodes evenly inside the
+    first interval (:func:`walk3d.problem.schedule.schedule`)."""
+    extra = nodes - regular
+    grid = np.arange(regular) / (2 * regular)
+    inside = np.arange(1, extra + 1) / (extra + 1) / (2 * regular)
+    return np.sort(np.concatenate([grid, inside]))
+
+
+def midstance_hip_flexion_deg(z: np.ndarray, lay: layout.NlpLayout, double_support_ratio: float,
+                              regular_nodes: int | None = None) -> float:  # fmt: skip
+    """Mean right-hip flexion over the nodes in mid-stance, deg (``2 asin q`` of the flexion
+    coordinate, the flexion angle to first order); ``double_support_ratio`` is Td/T."""
     y = np.asarray(z)[lay.z("y")].reshape(lay.nodes, layout.N_Y)
-    q = np.clip(y[:, HIP_FLEXION_COORD], -1.0, 1.0)
-    return float(np.degrees(2 * np.arcsin(q)).max())
-
-
-def crouched(z: np.ndarray, lay: layout.NlpLayout) -> bool:
-    """Whether ``z`` flexes the stance hip more than :data:`CROUCH_HIP_DEG`."""
-    return stance_hip_flexion_deg(z, lay) > CROUCH_HIP_DEG
+    hip = np.degrees(2 * np.arcsin(np.clip(y[:, HIP_FLEXION_COORD], -1.0, 1.0)))
+    frac = node_fractions(lay.nodes, regular_nodes or lay.nodes)
+    lo, hi = GaitPhases(1.0, double_support_ratio).mid_stance
+    inside = (frac >= lo) & (frac <= hi)
+    return float(hip[inside].mean())
