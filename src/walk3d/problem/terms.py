@@ -89,7 +89,7 @@ NEUTRAL_DEG = {"elbow_flex": 20.0}
 POSE_DOFS = ("lumbar", "neck", "arm_", "elbow")
 """Prefixes of the DoFs the pose term covers: trunk, neck, shoulders and elbows."""
 PRESETS: dict[str, dict[str, float]] = {
-    "natural": {"tor": 1.0, "accel": 0.5, "jerk": 0.5, "head": 0.5, "impact": 5.0, "shear": 1.0,
+    "natural": {"tor": 1.0, "accel": 0.5, "jerk": 1.0, "head": 0.5, "impact": 5.0, "shear": 1.0,
                 "pose": 0.5, "pelvis": 1.0, "spin": 2.0, "arms": 1.0},
 }  # fmt: skip
 """Named weighted criteria (docs/criteria.md: how the weights were chosen)."""
