@@ -58,8 +58,12 @@ LAB_FROM_WALK3D = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 ANALOG_RATIO = 10
 """Analog samples per frame: about 1 kHz at walk3d's ~92 samples/s, a usual plate rate."""
 LOADED_SHARE = 0.05
-"""The plates enclose the samples where the foot carries this share of body weight; below
-it, as at a touch-down sample, walk3d's centre of pressure is not meaningful."""
+"""The plates enclose the sole over the samples where the foot carries this share of body
+weight."""
+COP_SHARE = 0.2
+"""The plates also enclose the centre of pressure where the foot carries this share: at a
+touch-down sample walk3d's centre of pressure is a quotient of small moments and can lie a
+metre off the foot at 6 % of body weight (docs/c3d.md)."""
 PLATE_MARGIN = 0.02
 """m added around the footprint on every side."""
 SIDES = ("Right", "Left")
@@ -156,7 +160,8 @@ def _footprint(pred: Any, body: BodyModel, trial: LabTrial, foot: int) -> np.nda
     sole = [Marker(n, f"foot_{side}", p) for n, p in zip("htam", body.foot.points(side),
                                                          strict=True)]  # fmt: skip
     pts = [_unwrapped(trial, marker_positions(pred, body, sole), k).reshape(-1, 3)]
-    cop = _unwrapped(trial, pred.grf_cop[:, foot], k)
+    firm = k[pred.grf_force[k % trial.period_samples, foot, 1] >= COP_SHARE * weight]
+    cop = _unwrapped(trial, pred.grf_cop[:, foot], firm)
     pts.append(cop[np.all(np.isfinite(cop), axis=1)])
     xz = np.concatenate(pts)[:, [0, 2]]
     (x0, z0), (x1, z1) = xz.min(axis=0) - PLATE_MARGIN, xz.max(axis=0) + PLATE_MARGIN

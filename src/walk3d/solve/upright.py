@@ -19,7 +19,8 @@ from walk3d.problem import layout
 HIP_MIDSTANCE_MAX_DEG = 27.0
 """Mean hip flexion over the middle third of stance above which a gait counts as crouched,
 deg: between walk3d's walking optima (at most 25°, the man at 1.9 m/s) and its crouched ones
-(32° and more); measured adults: 5° (Falisse 2019). docs/solver.md, session 24."""
+(32° and more); measured adults: 5° (Falisse 2019). Evidence: docs/solver.md, the crouch
+check that reads mid-stance."""
 HIP_FLEXION_COORD = 14
 """Coordinate index of the right hip's flexion (about its z axis; :data:`layout.COORD_SOURCE`)."""
 CROUCHED = "Crouched_Optimum"
