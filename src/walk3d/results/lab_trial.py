@@ -155,12 +155,12 @@ def _footprint(pred: Any, body: BodyModel, trial: LabTrial, foot: int) -> np.nda
     first, last = trial.stances[foot]
     k = np.arange(first, last + 1)
     weight = pred.body_mass * G
-    strong = k[pred.grf_force[k % trial.period_samples, foot, 1] >= LOADED_SHARE * weight]
+    fy = pred.grf_force[k % trial.period_samples, foot, 1]
+    strong, firm = k[fy >= LOADED_SHARE * weight], k[fy >= COP_SHARE * weight]
     k = strong if strong.size else k
     sole = [Marker(n, f"foot_{side}", p) for n, p in zip("htam", body.foot.points(side),
                                                          strict=True)]  # fmt: skip
     pts = [_unwrapped(trial, marker_positions(pred, body, sole), k).reshape(-1, 3)]
-    firm = k[pred.grf_force[k % trial.period_samples, foot, 1] >= COP_SHARE * weight]
     cop = _unwrapped(trial, pred.grf_cop[:, foot], firm)
     pts.append(cop[np.all(np.isfinite(cop), axis=1)])
     xz = np.concatenate(pts)[:, [0, 2]]

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field, replace
 import casadi as ca
 import numpy as np
 
+from walk3d.contact.phases import GaitPhases
 from walk3d.problem import descriptors, layout, similarity, terms
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import upright
@@ -184,11 +185,13 @@ def _reject_crouch(solver: Solver, z: np.ndarray, record: dict, note) -> None:
     if not solver.settings.solver.reject_crouch:
         return
     gait, lay = solver.settings.gait, solver.layout
-    ratio = gait.double_support / gait.period
-    if lay.n_s:
-        period, double_support = np.asarray(z)[lay.z("s")]
-        ratio = double_support / period
-    hip = upright.midstance_hip_flexion_deg(z, lay, ratio, solver.settings.solver.nodes)
+    phases = GaitPhases(gait.period, gait.double_support)
+    tau = solver.schedule.times - phases.heel_strike_r
+    if lay.n_s:  # the phase-following grid at the solved T and Td
+        phases = GaitPhases(*map(float, np.asarray(z)[lay.z("s")]))
+        grid = descriptors.free_grid(solver.settings.solver.nodes)
+        tau = np.array(grid.tau(phases.period, phases.double_support), dtype=float)
+    hip = upright.midstance_hip_flexion_deg(z, lay, tau, phases)
     if hip <= upright.HIP_MIDSTANCE_MAX_DEG:
         return
     record["optimum_status"], record["status"] = record["status"], upright.CROUCHED

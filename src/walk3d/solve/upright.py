@@ -27,23 +27,13 @@ CROUCHED = "Crouched_Optimum"
 """The status a rejected full stage is given (not a success, so the plan retries)."""
 
 
-def node_fractions(nodes: int, regular: int) -> np.ndarray:
-    """Each node's time since the right heel strike over the period T: ``k / (2 regular)`` for
-    the regular grid, with the ``nodes - regular`` extra heel-strike nodes evenly inside the
-    first interval (:func:`walk3d.problem.schedule.schedule`)."""
-    extra = nodes - regular
-    grid = np.arange(regular) / (2 * regular)
-    inside = np.arange(1, extra + 1) / (extra + 1) / (2 * regular)
-    return np.sort(np.concatenate([grid, inside]))
-
-
-def midstance_hip_flexion_deg(z: np.ndarray, lay: layout.NlpLayout, double_support_ratio: float,
-                              regular_nodes: int | None = None) -> float:  # fmt: skip
+def midstance_hip_flexion_deg(z: np.ndarray, lay: layout.NlpLayout, tau: np.ndarray,
+                              phases: GaitPhases) -> float:  # fmt: skip
     """Mean right-hip flexion over the nodes in mid-stance, deg (``2 asin q`` of the flexion
-    coordinate, the flexion angle to first order); ``double_support_ratio`` is Td/T."""
+    coordinate, the flexion angle to first order); ``tau`` holds the nodes' times since the
+    right heel strike, s, and ``phases`` the period and double support they belong to."""
     y = np.asarray(z)[lay.z("y")].reshape(lay.nodes, layout.N_Y)
     hip = np.degrees(2 * np.arcsin(np.clip(y[:, HIP_FLEXION_COORD], -1.0, 1.0)))
-    frac = node_fractions(lay.nodes, regular_nodes or lay.nodes)
-    lo, hi = GaitPhases(1.0, double_support_ratio).mid_stance
-    inside = (frac >= lo) & (frac <= hi)
+    lo, hi = phases.mid_stance
+    inside = (np.asarray(tau) >= lo) & (np.asarray(tau) <= hi)
     return float(hip[inside].mean())
