@@ -91,3 +91,25 @@ def test_ctrl_c_stops_a_campaign_with_one_line_and_keeps_finished_starts(tmp_pat
     assert 1 <= len(done) < STARTS and all((d / store.RECORD_FILE).is_file() for d in done)
     assert not (out / "best").exists()  # no ranking or best/ of an interrupted run
     assert not list(out.rglob(".tmp_*"))  # the interrupted starts leave no partial folder
+
+
+def _log_in_workers(level, text):
+    import logging
+
+    logging.getLogger("distributed.worker").log(level, text)
+
+
+def test_local_workers_print_no_dask_error_logs(capfd):
+    """A worker's ERROR (as its heartbeat logs once the scheduler has closed at Ctrl-C) is not
+    printed; the control, a CRITICAL message from the same workers, is."""
+    import logging
+
+    from walk3d.campaign import runner
+
+    with runner._client(1, None, 1) as client:
+        client.run(_log_in_workers, logging.ERROR, "probe-error-hidden")
+        client.run(_log_in_workers, logging.CRITICAL, "probe-critical-shown")
+        time.sleep(0.5)  # let the worker's stderr reach the file
+    err = capfd.readouterr().err
+    assert "probe-critical-shown" in err, err
+    assert "probe-error-hidden" not in err, err

@@ -46,6 +46,11 @@ __all__ = ["CampaignReport", "run_campaign"]
 
 WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
+DASK_LOG_LEVEL = logging.CRITICAL
+"""Dask's messages below this level are not printed by a local cluster. A campaign records
+every start's failure itself, and at Ctrl-C a worker whose scheduler has just closed would
+otherwise print a heartbeat traceback (logged at ERROR) under the one-line message."""
+
 
 @dataclass
 class CampaignReport:
@@ -137,7 +142,7 @@ def _client(workers: int | None, scheduler: str | None, pending: int) -> Iterato
             threads_per_worker=1,
             processes=True,
             dashboard_address=None,
-            silence_logs=logging.ERROR,
+            silence_logs=DASK_LOG_LEVEL,
             env=dict(WORKER_ENV),
         ) as cluster,
         Client(cluster) as client,
