@@ -19,6 +19,9 @@ the root is the leading foot, and the trailing foot closes the loop.
 
 During double support the trailing foot unloads as ``exp(-(τ/T_ds)³)`` with ``T_ds = Td/2`` and
 ``τ`` the time since the contralateral heel strike (paper Eq. 6).
+
+With the handover (:func:`handover_share`) the root of the chain also passes from the trailing
+to the leading foot over double support instead of at heel strike.
 """
 
 from __future__ import annotations
@@ -26,6 +29,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+
+def handover_share(x):
+    """``(h, dh/dx, d²h/dx²)`` of the trailing foot's share of the chain's root at ``x`` = time
+    since heel strike / Td: ``1 − (10x³ − 15x⁴ + 6x⁵)``, 1 at heel strike and 0 at toe off with
+    both derivatives 0 at either end, so the motion stays twice differentiable there."""
+    x = np.clip(np.asarray(x, dtype=float), 0.0, 1.0)
+    h = 1.0 - x**3 * (10.0 - 15.0 * x + 6.0 * x**2)
+    d1 = -30.0 * x**2 * (1.0 - x) ** 2
+    d2 = -60.0 * x * (1.0 - x) * (1.0 - 2.0 * x)
+    return h, d1, d2
 
 
 @dataclass(frozen=True)
@@ -90,3 +104,12 @@ class GaitPhases:
         tau = self.time_since_heel_strike(t)
         t_ds = self.double_support / 2
         return np.where(tau <= self.double_support + 1e-12, np.exp(-((tau / t_ds) ** 3)), 0.0)
+
+    def handover(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(h, ḣ, ḧ)`` at ``t`` (1/s, 1/s²): the trailing foot's share of the root
+        (:func:`handover_share`) in double support, 0 in single stance."""
+        tau = self.time_since_heel_strike(t)
+        ds = tau <= self.double_support + 1e-12
+        h, d1, d2 = handover_share(tau / self.double_support)
+        td = self.double_support
+        return np.where(ds, h, 0.0), np.where(ds, d1 / td, 0.0), np.where(ds, d2 / td**2, 0.0)

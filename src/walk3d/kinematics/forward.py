@@ -135,6 +135,25 @@ def forward(
     return Pose(ori, org, com, omega, alpha)  # type: ignore[arg-type]
 
 
+def blended_root(
+    root: tuple[QTriple, VTriple],
+    chain: tuple[QTriple, VTriple],
+    expected: tuple[QTriple, VTriple],
+    share: Triple,
+) -> tuple[QTriple, VTriple]:
+    """The root foot's pose moved by ``share`` of the rigid motion that takes the other foot from
+    where the chain puts it (``chain``: orientation, ankle) to its own roll-over pose
+    (``expected``). The motion's rotation vector (the vector part of ``q_exp q_chain*``) is
+    scaled, about the other foot's ankle; share 1 roots the body at the other foot, 0 leaves it."""
+    (q_root, p_root), (q_ch, p_ch), (q_ex, p_ex) = root, chain, expected
+    corr = qt.qmul_triple(q_ex, qt.qconj_triple(q_ch))
+    vec = tuple((c[1], c[2], c[3]) for c in corr)
+    q_s = qt.from_vector_triple(*qt.scale_triple(share, vec))  # type: ignore[arg-type]
+    arm = qt.rotate_moving_triple(q_s, qt.vsub_triple(p_root, p_ch))
+    shift = qt.scale_triple(share, qt.vsub_triple(p_ex, p_ch))
+    return qt.qmul_triple(q_s, q_root), qt.vadd_triple(qt.vadd_triple(p_ch, shift), arm)
+
+
 def point_triple(pose: Pose, segment: int, local: np.ndarray) -> VTriple:
     """Global position triple of a point fixed in a segment."""
     return qt.vadd_triple(

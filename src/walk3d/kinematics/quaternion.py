@@ -149,6 +149,22 @@ def rotate_triple(A: QTriple, p: V) -> VTriple:
     return (r, (r_d[1], r_d[2], r_d[3]), (r_dd[1], r_dd[2], r_dd[3]))
 
 
+def rotate_moving_triple(A: QTriple, p: VTriple) -> VTriple:
+    """``q ⊗ p ⊗ q*`` for a moving vector ``p`` (a triple), with derivatives."""
+    pure = tuple((0.0 * c[0], *c) for c in p)
+    r = qmul_triple(qmul_triple(A, pure), qconj_triple(A))  # type: ignore[arg-type]
+    return tuple((c[1], c[2], c[3]) for c in r)  # type: ignore[return-value]
+
+
+def scale_triple(s: tuple[Any, Any, Any], a: VTriple) -> VTriple:
+    """``s · a`` for a scalar trajectory ``s`` (value, first, second derivative)."""
+    return (
+        vscale(s[0], a[0]),
+        vadd(vscale(s[1], a[0]), vscale(s[0], a[1])),
+        vadd(vadd(vscale(s[2], a[0]), vscale(2.0 * s[1], a[1])), vscale(s[0], a[2])),
+    )
+
+
 def vadd_triple(a: VTriple, b: VTriple) -> VTriple:
     return (vadd(a[0], b[0]), vadd(a[1], b[1]), vadd(a[2], b[2]))
 
