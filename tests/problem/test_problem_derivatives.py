@@ -89,7 +89,7 @@ def test_column_blocks_equal_the_node_derivatives(dynamics, criterion):
     hess_b = derivatives.assemble(blocks["hess"], "hess_b")
     rng = np.random.default_rng(5)
     v = rng.uniform(-0.1, 0.1, derivatives.N_V)
-    p = np.array([30.0, -0.7, 5.8])
+    p = np.array([30.0, -0.7, 5.8, 0.6, -0.3, 0.2])
     lam = rng.normal(size=node.size_out(0)[0])
     h_ref = _dense(hess(v, p, 0.7, lam))
     assert np.abs(h_ref).max() > 1.0

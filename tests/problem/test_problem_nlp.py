@@ -26,7 +26,8 @@ def _random_node(seed):
     y = rng.uniform(-0.1, 0.1, nlp.N_Y)
     w0 = np.array([0.05, 1.0, 0.01, 0.02, 0.01, 0.03])
     t = rng.uniform(0.0, 0.5, nlp.N_T)
-    return y, w0, 0.07, np.array([0.6, -0.7, 2 * np.pi / 1.3]), t  # [decay, anchor_x, ω]
+    # [decay, anchor_x, ω, h, ḣ/ω, ḧ/ω²]
+    return y, w0, 0.07, np.array([0.6, -0.7, 2 * np.pi / 1.3, 0.7, -0.4, 0.3]), t
 
 
 def test_symbolic_node_function_matches_numpy_evaluation(setup):
@@ -86,6 +87,26 @@ def test_bounds_and_variables_have_matching_sizes(setup):
     assert np.all(b.ubg[-6:] == s.solver.loop_check_tolerance) and np.all(b.lbg[-6:] < 0)
 
 
+def test_handover_node_function_matches_numpy_and_moves_the_loads(setup):
+    """With ``model.handover`` the node function reads the share from ``p[3:6]`` (rates scaled
+    by ω) and its ground reaction is the NumPy path's with that share; the same node without
+    the handover has another reaction (the control), and the loop rows stay the root chain's."""
+    s, body, fn = setup
+    model = s.model.model_copy(update={"handover": True})
+    fn_h = nlp.node_function(body, model)
+    y, w0, hw, p, t = _random_node(4)
+    g_h = np.array(fn_h(y, w0, hw, p, t)[0]).ravel()
+    g = np.array(fn(y, w0, hw, p, t)[0]).ravel()
+    st = nlp.state_at(body, [np.array([v]) for v in y], [np.array([v]) for v in w0], hw,
+                      p[0], p[1], p[2], handover=(p[3], p[4], p[5]))  # fmt: skip
+    g_np = np.array([float(np.squeeze(v)) for v in nlp.node_outputs(body, model, st)[0]])
+    np.testing.assert_allclose(g_h[: g_np.size], g_np, rtol=1e-9, atol=1e-11)
+    force = nlp.G_ROWS["root_force"]
+    assert np.abs(g_h[force] - g[force]).max() > 1e-3
+    for name in ("loop_position", "loop_orientation", "loop_velocity", "loop_omega"):
+        np.testing.assert_allclose(g_h[nlp.G_ROWS[name]], g[nlp.G_ROWS[name]], atol=1e-12)
+
+
 def test_loop_function_matches_the_node_rows(setup):
     s, body, fn = setup
     y, w0, hw, p, t = _random_node(2)
@@ -103,7 +124,7 @@ def test_balance_split_shares_the_reaction_as_the_full_stage(setup, decay):
     (the default) the support rows hold the total under both feet and differ."""
     s, body, full = setup
     y, w0, hw, p, t = _random_node(3)
-    p = np.array([decay, p[1], p[2]])
+    p = np.array([decay, *p[1:]])
     R = nlp.G_ROWS
     rows = np.r_[R["root_force"], R["other_force"], R["hs_wrench"], R["root_support"],
                  R["other_support"]]  # fmt: skip

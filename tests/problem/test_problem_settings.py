@@ -30,8 +30,9 @@ ADDED_SINCE = [
     "reject_crouch",
     "free",
     "start",
+    "handover",
 ]
-"""Fields added later (issues #23, #24, #25), with defaults, so older files still load."""
+"""Fields added later (issues #23, #24, #25, #26), with defaults, so older files still load."""
 
 
 def test_every_setting_belongs_to_exactly_one_group():

@@ -47,9 +47,9 @@ def _rows(criterion: str, scale_omega: bool = True):
     y = rng.uniform(-0.3, 0.3, nlp.N_Y)
     w0 = rng.uniform(-0.5, 0.5, 6)
     t = rng.uniform(0.0, 1.0, nlp.N_T)
-    p_ref = np.array([0.3, -0.7, 2 * np.pi / ref.gait.period])
+    p_ref = np.array([0.3, -0.7, 2 * np.pi / ref.gait.period, 0.5, -0.3, 0.2])
     omega = 2 * np.pi / (subject.gait.period if scale_omega else ref.gait.period)
-    p_own = np.array([0.3, -0.7 * s, omega])
+    p_own = np.array([0.3, -0.7 * s, omega, 0.5, -0.3, 0.2])
     w0_own = np.concatenate([w0[:3], w0[3:] * s])  # moments in body weight × m
     # the criterion's unit: C_tor's integrand scales with s, C_en's with (m / m_ref) √s
     c = s if criterion == "tor" else subject.gait.mass / sim.REFERENCE_MASS_KG * math.sqrt(s)

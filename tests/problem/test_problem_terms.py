@@ -158,7 +158,7 @@ def test_the_nlp_objective_row_adds_the_weighted_terms_to_the_base():
     rng = np.random.default_rng(2)
     y = rng.uniform(-0.1, 0.1, nlp.N_Y)
     w0 = np.array([0.05, 1.0, 0.01, 0.02, 0.01, 0.03])
-    p = np.array([0.6, -0.7, 2 * np.pi / 1.1])
+    p = np.array([0.6, -0.7, 2 * np.pi / 1.1, 0.0, 0.0, 0.0])
     t = rng.uniform(0.0, 0.5, nlp.N_T)
     f_tor = np.array(nlp.node_function(body, base)(y, w0, 0.07, p, t)[1]).ravel()
     f_w = np.array(nlp.node_function(body, weighted)(y, w0, 0.07, p, t)[1]).ravel()

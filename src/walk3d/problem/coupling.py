@@ -1,14 +1,14 @@
 """Exact derivatives of the NLP in the descriptors ``s = [T, Td]`` (:mod:`.descriptors`).
 
 With ``s`` among the unknowns the node rows still depend on their own ``v_k`` as before, but
-through ``p_k(s) = [decay, ±V T / 2, 2π/T]`` and the quadrature weight ``w_k(s)`` they also
+through ``p_k(s)`` (:func:`params_of`) and the quadrature weight ``w_k(s)`` they also
 depend on T and Td. :func:`walk3d.problem.derivatives.derivative_functions` keeps the blocks in
 ``v_k`` (evaluated at ``p_k(s)``, with ``w_k(s)`` in the objective multiplier) and adds what this
 module gives:
 
 * per node, one SX function of ``(v_k, s, c_k, λ_f, λ_k)`` (:func:`node_coupling`) with the
   columns ``∂g_k/∂s``, the gradient ``∂(w_k f_k)/∂s``, the Hessian's ``∂²L_k/∂v∂s`` and
-  ``∂²L_k/∂s²``, where ``c_k = [decay, ±V/2, α_k, β_k, T0]`` holds the node's constants;
+  ``∂²L_k/∂s²``, where ``c_k`` holds the node's constants (:data:`N_C`);
 * the rows that are functions of ``(x, s)`` alone, differentiated by CasADi as one small SX
   function (:func:`coefficient_coupling`): the lifting ``Y_k = lift_k(x, s)``, the per-distance
   jerk term and the two rows on ``Td / T``.
@@ -22,23 +22,29 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from walk3d.contact.phases import handover_share
 from walk3d.problem import descriptors, layout
 from walk3d.problem.scatter import Scatter, per_node, triplets
 
-N_C = 5
-"""Node constants ``c_k = [decay, anchor sign × V / 2, α_k, β_k, T0]``."""
+N_C = 8
+"""Node constants ``c_k = [decay, anchor sign × V / 2, α_k, β_k, T0, H, H', H'']``, with
+``H, H', H''`` the handover share and its derivatives in ``x = τ / Td`` at the node (0 in single
+stance: a double-support node's ``x`` is constant on the grid)."""
 
 
 def node_constants(grid: descriptors.FreeGrid, speed: float, period0: float) -> np.ndarray:
     """``(N_C, n)``: each node's ``c_k`` (module doc)."""
     n = grid.n
+    share = [np.where(grid.double_support, v, 0.0) for v in handover_share(grid.a)]
     return np.stack([grid.decay, grid.anchor_sign * speed / 2, grid.alpha, grid.beta,
-                     np.full(n, period0)])  # fmt: skip
+                     np.full(n, period0), *share])  # fmt: skip
 
 
 def params_of(c, s):
-    """``p_k(s) = [decay, ±V T / 2, 2π/T]`` from the node constants (any CasADi type)."""
-    return ca.vertcat(c[0], c[1] * s[0], 2 * math.pi / s[0])
+    """``p_k(s) = [decay, ±V T / 2, 2π/T, h, ḣ/ω, ḧ/ω²]`` from the node constants (any CasADi
+    type): ``ḣ/ω = H' r`` and ``ḧ/ω² = H'' r²`` with ``r = T / (2π Td)``."""
+    r = s[0] / (2 * math.pi * s[1])
+    return ca.vertcat(c[0], c[1] * s[0], 2 * math.pi / s[0], c[5], c[6] * r, c[7] * r * r)
 
 
 def weight_of(c, s):

@@ -42,8 +42,8 @@ class NlpPieces:
     node0: ca.Function
     node: ca.Function
     params: np.ndarray | ca.MX
-    """(3, n) node parameters ``[decay, anchor_x, ω]`` (:data:`walk3d.problem.layout.N_P`);
-    functions of the descriptors ``s`` when they are unknowns."""
+    """(N_P, n) node parameters (:data:`walk3d.problem.layout.N_P`); functions of the
+    descriptors ``s`` when they are unknowns."""
     lift: np.ndarray
     """(n, 78, N_X) lifting maps."""
     range_mat: np.ndarray

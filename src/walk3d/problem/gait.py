@@ -7,6 +7,11 @@ time nodes (results, tests) or CasADi ``SX`` scalars (the per-node function of t
 
 The root of the chain is the foot that struck last; the other foot is expected on its own
 roll-over path around ``anchor_other`` — in double support (closed loop) and at its heel strike.
+With a handover share ``h`` (:func:`walk3d.contact.phases.handover_share`) the body is moved by
+``h`` of the rigid motion that puts the trailing foot onto its own roll-over pose
+(:func:`walk3d.kinematics.forward.blended_root`): at heel strike it is rooted at the trailing
+foot as just before, so its velocity is continuous there. The closed-loop rows still read the
+chain from the root foot.
 """
 
 from __future__ import annotations
@@ -29,6 +34,7 @@ from walk3d.dynamics.newton_euler import (
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import (
     Pose,
+    blended_root,
     forward,
     joint_quaternions,
     point_triple,
@@ -93,6 +99,7 @@ def evaluate(
     dynamics: bool = True,
     balance: bool = True,
     split_total: bool = False,
+    handover: tuple[Any, Any, Any] | None = None,
 ) -> GaitState:
     """Evaluate the gait at the nodes described by ``coords`` (26 triples).
 
@@ -104,7 +111,8 @@ def evaluate(
     pushing, within friction and under the feet), the other foot and all moments are zero.
     With ``balance=False`` as well, the total is zero too: geometry only. ``split_total`` (with
     ``dynamics=False, balance=True``): the total is shared between the feet as with dynamics
-    (transition function, heel-strike wrench), still without joint moments.
+    (transition function, heel-strike wrench), still without joint moments. ``handover``:
+    the share ``(h, ḣ, ḧ)`` of the trailing foot in the root (module doc), None for none.
     """
     other = "l" if root == "r" else "r"
     dof = coords[:24]
@@ -118,11 +126,15 @@ def evaluate(
     q_exp, p_exp = root_foot_triples(body, other, s_foot[other], anchor_other)
     q_chain = pose.orientation[i_other]
     p_chain = pose.origin[i_other]
+    loop_pose = pose
+    if handover is not None:
+        root_pose = blended_root((q_root, p_root), (q_chain, p_chain), (q_exp, p_exp), handover)
+        pose = forward(body, jq, i_root, *root_pose)
     rel = qt.qmul(qt.qconj(q_exp[0]), q_chain[0])
     w_exp_b, _ = qt.omega_alpha_body(q_exp)
     w_exp = qt.qrot(q_exp[0], w_exp_b)
 
-    ankle_other = p_chain[0]
+    ankle_other = pose.origin[i_other][0]
     zero = 0.0 * ankle_other[0]
     z3 = (zero, zero, zero)
     inertial = inertial_loads(body, pose) if dynamics else None
@@ -149,9 +161,9 @@ def evaluate(
         loop_position=qt.vsub(p_chain[0], p_exp[0]),
         loop_orientation=(rel[1], rel[2], rel[3]),
         loop_velocity=qt.vsub(p_chain[1], p_exp[1]),
-        loop_omega=qt.vsub(pose.omega[i_other], w_exp),
-        other_points_y=[point_triple(pose, i_other, p)[0][1] for p in pts],
-        ankle_z={root: pose.origin[i_root][0][2], other: p_chain[0][2]},
+        loop_omega=qt.vsub(loop_pose.omega[i_other], w_exp),
+        other_points_y=[point_triple(loop_pose, i_other, p)[0][1] for p in pts],
+        ankle_z={root: loop_pose.origin[i_root][0][2], other: p_chain[0][2]},
         torso_orientation=pose.orientation[body.segment_index("torso")][0],
     )
 

@@ -69,10 +69,11 @@ N_T = 24
 """Slack variables per NLP node, one per DoF (criterion absolute values)."""
 N_W0 = 6
 """The trailing foot's load at right heel strike: force and moment, in body weights."""
-N_P = 3
-"""Node parameters ``p = [decay, anchor_x, ω]`` (:func:`walk3d.problem.schedule.node_params`). The
-cycle frequency is a parameter, not a constant of the node function, so that one node function,
-and the derivatives compiled from it, serve every V, T and Td of a body."""
+N_P = 6
+"""Node parameters ``p = [decay, anchor_x, ω, h, ḣ/ω, ḧ/ω²]``
+(:func:`walk3d.problem.schedule.node_params`; ``h`` the handover share, unused without the
+handover). The cycle frequency is a parameter, not a constant of the node function, so that one
+node function, and the derivatives compiled from it, serve every V, T and Td of a body."""
 
 G_ROWS = {
     "loop_position": slice(0, 3),

@@ -14,10 +14,7 @@ Nodes cover the half cycle in which the right foot is the root: ``t_k = t_hs_r +
 ``k = 0..N-1``. The closed loop in double support (the trailing left foot on its own roll-over
 path, half a stride behind) also joins the mirrored second half continuously: seen from the
 left foot, the same loop holds at the left heel strike. Symmetry makes the full-cycle criterion
-twice the half-cycle sum.
-
-Per-node constraints (rows of :func:`node_function`'s output ``g``; :data:`G_ROWS`) are bounded
-only at the nodes where they apply (double support, swing).
+twice the half-cycle sum. Per-node constraints (:data:`G_ROWS`) are bounded where they apply.
 """
 
 from __future__ import annotations
@@ -66,17 +63,18 @@ def state_at(
     dynamics: bool = True,
     balance: bool = True,
     split_total: bool = False,
+    handover=None,
 ) -> GaitState:
     """:func:`evaluate` with the right foot as root (component inputs, any backend).
 
     ``y`` holds values, rates / ω and accelerations / ω² (``ω = 2π/T``), so all 78 entries have
-    the size of the Fourier coefficients (better conditioning for the solver).
+    the size of the Fourier coefficients (better conditioning for the solver). ``handover``:
+    ``(h, ḣ/ω, ḧ/ω²)``, or None without the handover.
     """
     wf = body.mass * G
-    w0_wrench = (
-        (w0[0] * wf, w0[1] * wf, w0[2] * wf),
-        (w0[3] * wf, w0[4] * wf, w0[5] * wf),
-    )
+    w0_wrench = (tuple(w * wf for w in w0[:3]), tuple(w * wf for w in w0[3:6]))
+    if handover is not None:
+        handover = (handover[0], omega * handover[1], omega**2 * handover[2])
     return evaluate(
         body,
         _unpack_coords(y, omega),
@@ -88,6 +86,7 @@ def state_at(
         dynamics=dynamics,
         balance=balance,
         split_total=split_total,
+        handover=handover,
     )
 
 
@@ -170,8 +169,9 @@ def node_function(
     with_hs: bool = True,
     balance: bool = True,
 ) -> ca.Function:
-    """``walk3d_node(y[78], w0[6], hw, p[3], t[24]) -> (g[N_G], f[2])`` in SX,
-    ``p = [decay, anchor_x, ω]`` (:data:`N_P`).
+    """``walk3d_node(y[78], w0[6], hw, p[6], t[24]) -> (g[N_G], f[2])`` in SX,
+    ``p = [decay, anchor_x, ω, h, ḣ/ω, ḧ/ω²]`` (:data:`N_P`; the handover share is read only with
+    ``model.handover``).
 
     Criterion form (``model.absolute``):
 
@@ -198,7 +198,8 @@ def node_function(
     t = ca.SX.sym("t", N_T)
     yl, w0l = [y[i] for i in range(N_Y)], [w0[i] for i in range(6)]
     per_foot = per_foot_loads(model, dynamics, balance)
-    st = state_at(body, yl, w0l, hw, p[0], p[1], p[2], dynamics, balance, per_foot)
+    share = (p[3], p[4], p[5]) if model.handover else None
+    st = state_at(body, yl, w0l, hw, p[0], p[1], p[2], dynamics, balance, per_foot, share)
     g, f, starts = node_outputs(body, model, st)
     if not dynamics:
         n = layout.N_COORD
@@ -308,7 +309,7 @@ def node_calls(
     functions: dict[str, ca.Function] | None = None,
 ) -> NodeCalls:
     """The variables ``x, Y, W0, T`` of ``n`` nodes and the node functions called on them with
-    ``params`` (3 × n, numbers or functions of the descriptors): node 0 alone, the others
+    ``params`` (N_P × n, numbers or functions of the descriptors): node 0 alone, the others
     through one ``map``. Shared by :func:`build_nlp` and the free NLP (:mod:`.free_nlp`)."""
     fns = functions or {}
 

@@ -143,9 +143,14 @@ def nlp_layout(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> 
 
 
 def node_params(settings: PredictionSettings, sch) -> np.ndarray:
-    """``(N_P, n_nodes)``: each node's ``[decay, anchor_x, ω]`` (:data:`layout.N_P`)."""
-    omega = np.full(sch.n, 2 * np.pi / settings.gait.period)
-    return np.stack([sch.decay, sch.anchor_other_x, omega])
+    """``(N_P, n_nodes)``: each node's ``[decay, anchor_x, ω, h, ḣ/ω, ḧ/ω²]``
+    (:data:`layout.N_P`; ``h`` the handover share at the node's time)."""
+    omega = 2 * np.pi / settings.gait.period
+    h, hd, hdd = GaitPhases(settings.gait.period, settings.gait.double_support).handover(sch.times)
+    ds = sch.double_support
+    h, hd, hdd = (np.where(ds, a, 0.0) for a in (h, hd, hdd))
+    return np.stack([sch.decay, sch.anchor_other_x, np.full(sch.n, omega), h, hd / omega,
+                     hdd / omega**2])  # fmt: skip
 
 
 def lifting_maps(settings: PredictionSettings, sch) -> np.ndarray:

@@ -60,11 +60,15 @@ def _anchors(settings: PredictionSettings, ph: GaitPhases, t: np.ndarray, root: 
                                  hw + 0.0 * p)  # fmt: skip
 
 
-def _state(body, settings, ph, x, t, root, w0=None, decay=None) -> GaitState:
+def _state(body, settings, ph, x, t, root, w0=None, decay=None, handover=True) -> GaitState:
+    """The gait at times ``t`` of one root block; with the settings' handover unless
+    ``handover`` is False."""
     hw = float(x[layout.I_HALF_STEP])
     a_root, a_other = _anchors(settings, ph, t, root, hw)
     d = ph.trailing_decay(t) if decay is None else decay
-    return evaluate(body, _coords(x, t, settings.gait.period), root, a_root, a_other, d, w0)
+    share = ph.handover(t) if handover and settings.model.handover else None
+    coords = _coords(x, t, settings.gait.period)
+    return evaluate(body, coords, root, a_root, a_other, d, w0, handover=share)
 
 
 def _hs_wrench(body, settings, ph, x, t_hs, root):
@@ -166,10 +170,10 @@ def evaluate_cycle(
         )
         contact = max(contact, _contact_residual(body, st, x, tb, settings, ph, ds))
         viol.append(block_violations(body, settings.model, st, body.mass * G, ds))
-    # continuity at the switch of root (left heel strike): pelvis from either root
+    # continuity at the switch of root (left heel strike): pelvis from either root's chain
     t_sw = np.array([ph.heel_strike_l])
-    p_r = stack_v(_state(body, settings, ph, x, t_sw, "r", w0=w0["r"]).pose.origin[0][0])
-    p_l = stack_v(_state(body, settings, ph, x, t_sw, "l", w0=w0["l"]).pose.origin[0][0])
+    p_r, p_l = (stack_v(_state(body, settings, ph, x, t_sw, r, w0=w0[r], handover=False)
+                        .pose.origin[0][0]) for r in ("r", "l"))  # fmt: skip
     continuity = float(np.linalg.norm(p_r - p_l))
     cop = np.zeros_like(force)
     free = np.zeros((n, 2))
