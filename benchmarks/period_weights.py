@@ -1,5 +1,5 @@
 """How the criterion's weights set the predicted period: ``python benchmarks/period_weights.py
-[--weights WEIGHTS ...] [--trials falisse,subject01,winter] [--sensitivity]``.
+[--weights WEIGHTS ...] [--trials falisse,subject01,winter] [--sensitivity] [--handover]``.
 
 Each ``--weights`` item (``base``, or changes like ``jerk=1`` or ``jerk=1,impact=3``) is applied
 to the ``natural`` preset; for each measured trial the reference-subject problem (dynamic
@@ -44,7 +44,7 @@ def weights_for(change: str, base: dict[str, float]) -> str:
     return terms.canonical(",".join(f"{k}={v:g}" for k, v in w.items()))
 
 
-def run_one(criterion: str, trial: str) -> dict:
+def run_one(criterion: str, trial: str, handover: bool = False) -> dict:
     import numpy as np
 
     from walk3d import api
@@ -64,10 +64,10 @@ def run_one(criterion: str, trial: str) -> dict:
         raise SystemExit(f"no atlas start: {why}")
     start = found[0]
     t0 = time.perf_counter()
-    out = solve_warm(ref.replace(criterion=criterion), start.x,
-                     s0=(start.period, start.double_support))  # fmt: skip
+    ref = ref.replace(criterion=criterion, handover=handover)
+    out = solve_warm(ref, start.x, s0=(start.period, start.double_support))
     forget_solvers()
-    done = with_predicted(ref.replace(criterion=criterion), out.descriptors)
+    done = with_predicted(ref, out.descriptors)
     ev = evaluate_cycle(body_for(done), done, out.x)
     summary = summarize(done, 0, out, ev, "ipopt")
     checks = make_prediction(ev.prediction_arrays, summary).summary["gait_checks"]
@@ -88,6 +88,7 @@ def main() -> None:
     ap.add_argument("--weights", nargs="*", default=["base", "accel=1", "jerk=1", "impact=2.5"])
     ap.add_argument("--trials", default="falisse,subject01,winter")
     ap.add_argument("--sensitivity", action="store_true")
+    ap.add_argument("--handover", action="store_true", help="solve with ModelSettings.handover")
     environment.add_output_arguments(ap, NAME)
     args = ap.parse_args()
     base = dict(terms.PRESETS["natural"])
@@ -99,7 +100,7 @@ def main() -> None:
     rows = []
     for change in changes:
         for trial in trials:
-            r = run_one(weights_for(change, base), trial) | {"change": change}
+            r = run_one(weights_for(change, base), trial, args.handover) | {"change": change}
             rows.append(r)
             print(f"{change:22s} {trial:10s} T {100 * r['period_error']:+6.2f} %  Td "
                   f"{100 * r['double_support_error']:+6.1f} %  peak Fy "
@@ -107,7 +108,7 @@ def main() -> None:
                   f"{'' if r['converged'] else '  NOT converged'}", flush=True)  # fmt: skip
     path = environment.output_path(args, NAME)
     environment.write(path, {"environment": environment.environment(), "base": base,
-                             "runs": rows})  # fmt: skip
+                             "handover": args.handover, "runs": rows})  # fmt: skip
     print(json.dumps({"written": str(path)}))
 
 

@@ -14,6 +14,7 @@ from walk3d.cli.common import (
     CalibrationFile,
     Criterion,
     DoubleSupport,
+    Handover,
     Height,
     HslLibrary,
     LinearSolver,
@@ -45,6 +46,7 @@ def campaign(
     starts: Annotated[int, typer.Option("--starts", help="Number of random starts.")],
     out: Annotated[str, typer.Option("--out", help="Campaign folder (created or resumed).")],
     criterion: Criterion = DEFAULT_PRESET,
+    handover: Handover = False,
     seed: Annotated[
         int, typer.Option("--seed", help="Base seed: start k uses seed+k.", rich_help_panel=SOLVER)
     ] = 0,
@@ -109,7 +111,7 @@ def campaign(
         **gait_fields(case["speed"], case["period"], case["double_support"], case["height"]),
         mass=case["mass"], height=case["height"], sex=case["sex"], nodes=nodes, max_iter=max_iter,
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
-        hsl_library=hsl_library, **_calibration_fields(calibration),
+        hsl_library=hsl_library, handover=handover, **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign
     from walk3d.campaign.ranking import top_table

@@ -17,6 +17,7 @@ from walk3d.cli.common import (
     Criterion,
     DoubleSupport,
     FromTrial,
+    Handover,
     Height,
     HslLibrary,
     LinearSolver,
@@ -150,6 +151,7 @@ def predict(
     height: Height = 1.77,
     sex: Sex = "male",
     criterion: Criterion = DEFAULT_PRESET,
+    handover: Handover = False,
     seed: Annotated[int, typer.Option("--seed", help="Random start.", rich_help_panel=SOLVER)] = 0,
     solver: SolverName = "ipopt",
     nodes: Nodes = 20,
@@ -197,7 +199,7 @@ def predict(
         criterion, solver, seed, **gait_fields(speed, period, double_support, height),
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads, max_iter=max_iter,
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
-        hsl_library=hsl_library,
+        hsl_library=hsl_library, handover=handover,
         **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.io.errors import OutputWriteError
@@ -302,6 +304,7 @@ def compile_model(
     height: Height = 1.77,
     sex: Sex = "male",
     criterion: Criterion = DEFAULT_PRESET,
+    handover: Handover = False,
     nodes: Nodes = 20,
     calibration: CalibrationFile = None,
 ) -> None:
@@ -312,7 +315,8 @@ def compile_model(
     or for bad input."""
     settings = settings_from_options(
         criterion, "ipopt", 0, **gait_fields(speed, period, double_support, height),
-        mass=mass, height=height, sex=sex, nodes=nodes, **_calibration_fields(calibration),
+        mass=mass, height=height, sex=sex, nodes=nodes, handover=handover,
+        **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.cli.compile import compile_with_progress
 

@@ -73,6 +73,16 @@ Criterion = Annotated[
         rich_help_panel=MODEL,
     ),
 ]
+Handover = Annotated[
+    bool,
+    typer.Option(
+        "--handover",
+        help="Pass the chain's root from the trailing to the leading foot over double support, "
+        "so velocities are continuous at heel strike and OpenSim's inverse dynamics needs no "
+        "residual force (walk3d verify). Moves the predicted T and Td (docs/opensim.md).",
+        rich_help_panel=MODEL,
+    ),
+]
 SolverName = Annotated[
     str,
     typer.Option(
