@@ -1,8 +1,10 @@
 """The OpenSim check of one prediction (``walk3d verify DIR``).
 
 :func:`verify_folder` runs OpenSim's InverseDynamicsTool on the folder's ``model.osim`` +
-``motion.mot`` + ``grf.xml`` and poses ``model.osim`` at every sample of ``motion.mot`` (in a
-child process, :mod:`walk3d.verify.worker`), then compares:
+``motion.mot`` + ``grf.xml`` (the cycle extended by samples of its neighbours,
+:mod:`walk3d.verify.periodic`, so that no spline ends inside it) and poses ``model.osim`` at
+every sample of ``motion.mot`` (in a child process, :mod:`walk3d.verify.worker`), then
+compares:
 
 * the flexion moments and pelvis residual forces with ``inverse_dynamics.sto``
   (:func:`walk3d.verify.compare.compare_generalized_forces`), over the whole cycle (the bars)
@@ -40,6 +42,7 @@ from walk3d.verify.compare import (
     largest_drift,
     smooth_mask,
 )
+from walk3d.verify.periodic import periodic_records
 
 __all__ = [
     "OpenSimMissing",
@@ -141,10 +144,14 @@ def verify_prediction(
     points = {k: (b, contact_point(body, s).tolist()) for k, (b, _, s) in feet.items()}
     with tempfile.TemporaryDirectory(prefix="walk3d-verify-") as tmp:
         work = Path(tmp)
+        padded = work / "periodic"
+        padded.mkdir()
+        ext_motion, ext_loads = periodic_records(motion, external_loads, padded)
         spec = {
             "model": str(Path(model).resolve()),
-            "motion": str(Path(motion).resolve()),
-            "external_loads": str(Path(external_loads).resolve()),
+            "motion": str(ext_motion.resolve()),
+            "external_loads": str(ext_loads.resolve()),
+            "replay": str(Path(motion).resolve()),
             "out": str(work),
             "points": points,
         }

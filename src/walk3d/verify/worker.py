@@ -6,12 +6,13 @@ module therefore imports nothing of walk3d that imports CasADi, and :mod:`walk3d
 calls it in a child process. ``SPEC.json`` holds::
 
     {"model": ".../model.osim", "motion": ".../motion.mot", "external_loads": ".../grf.xml",
-     "out": "DIR", "points": {"right": ["calcn_r", [x, y, z]], ...}}
+     "out": "DIR", "points": {"right": ["calcn_r", [x, y, z]], ...},
+     "replay": ".../motion.mot"}
 
 It writes ``DIR/opensim_inverse_dynamics.sto`` (OpenSim's InverseDynamicsTool on the three
 files, no low-pass filter, over the motion's whole time range) and ``DIR/points.npz``: each
-point's global position ``(N, 3)`` at the motion's samples, with the model posed by the
-motion's coordinates (point kinematics, no inverse kinematics).
+point's global position ``(N, 3)`` at the samples of ``replay`` (default: the motion), with
+the model posed by its coordinates (point kinematics, no inverse kinematics).
 """
 
 from __future__ import annotations
@@ -86,7 +87,8 @@ def main(argv: list[str] | None = None) -> int:
     spec = json.loads(Path(args[0]).read_text(encoding="utf-8"))
     out = Path(spec["out"])
     run_inverse_dynamics(spec["model"], spec["motion"], spec["external_loads"], str(out))
-    points = replay_points(spec["model"], spec["motion"], spec.get("points", {}))
+    replay = spec.get("replay", spec["motion"])
+    points = replay_points(spec["model"], replay, spec.get("points", {}))
     np.savez(out / POINTS_FILE, **points)
     return 0
 
