@@ -154,7 +154,8 @@ def test_a_shifted_pelvis_origin_fails_the_moment_bars(saved_atlas_prediction, s
     strict=True,
     reason="walk3d's motion jumps in velocity at heel strike (the centre of mass's vertical "
     "velocity by ~4 cm/s, an impulse of ~2.8 N s its ground reactions lack), which OpenSim "
-    "reports as pelvis residual forces of ~30 % body weight there (issue 26, docs/opensim.md)",
+    "reports as pelvis residual forces of ~30 % body weight there; the opt-in handover "
+    "(--handover, test_verify_handover.py) removes it (issue 26, docs/opensim.md)",
 )
 def test_the_verify_bars_pass_over_the_whole_cycle(verified):
     assert verified.passes(BARS)
