@@ -53,8 +53,8 @@ def periodic_records(
     ``grf.xml`` (with its data file) extended periodically (module doc)."""
     folder = Path(folder)
     mot = read_storage(motion)
-    stride = float(mot.data[-1, mot.columns.index("pelvis_tx")] - mot.data[0, mot.columns.index(
-        "pelvis_tx")])  # fmt: skip
+    pelvis_x = mot.data[:, mot.columns.index("pelvis_tx")]
+    stride = float(pelvis_x[-1] - pelvis_x[0])
     ext = extend_cycle(mot, ("pelvis_tx",), stride, pad)
     motion_out = write_storage(folder / "motion.mot", ext.time, ext.columns, ext.data,
                                in_degrees=bool(mot.in_degrees))  # fmt: skip
