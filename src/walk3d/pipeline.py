@@ -18,6 +18,7 @@ from walk3d.results.evaluate import evaluate_cycle, make_prediction
 from walk3d.results.gait_checks import realism_figures, walking_checks
 from walk3d.results.prediction import Prediction, save_prediction
 from walk3d.solve import SOLVE_REVISION, blas
+from walk3d.solve.landing import LANDING, landing_of
 
 
 def _solved_as(settings: PredictionSettings) -> dict:
@@ -41,15 +42,27 @@ def descriptor_summary(settings: PredictionSettings) -> dict:
             "predicted": list(g.free)}  # fmt: skip
 
 
-def with_predicted(settings: PredictionSettings, found: dict[str, float]) -> PredictionSettings:
+def with_predicted(
+    settings: PredictionSettings, found: dict[str, float], handover: bool | None = None
+) -> PredictionSettings:
     """The settings with the predicted descriptors in place of their first guess (still listed
-    in ``gait.free``), for evaluating and reporting the cycle."""
+    in ``gait.free``) and, when given, the ``handover`` the cycle was solved with, for
+    evaluating and reporting the cycle."""
+    if handover is not None and handover != settings.model.handover:
+        model = settings.model.model_copy(update={"handover": handover})
+        settings = settings.model_copy(update={"model": model})
     if not settings.gait.free:
         return settings
     gait = settings.gait.model_copy(
         update={k: v for k, v in found.items() if k in settings.gait.free}
     )
     return settings.model_copy(update={"gait": gait})
+
+
+def _start_of(stages: list[dict]) -> str:
+    """Where the solve started: the last stage's start, before any handover stage."""
+    starts = [r.get("start", "standing") for r in stages if r.get("start") != LANDING]
+    return starts[-1] if starts else "standing"
 
 
 def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str) -> dict:
@@ -61,7 +74,8 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "settings": settings.model_dump(),
         "descriptors": descriptor_summary(settings),
         "seed": seed,
-        "start": outcome.stages[-1].get("start", "standing") if outcome.stages else "standing",
+        "start": _start_of(outcome.stages),
+        "landing": landing_of(outcome),
         "method": solver,
         "converged": bool(outcome.converged),
         "status": outcome.status,
@@ -113,17 +127,24 @@ def predict(
     the settings must predict a descriptor). ``animate``, ``report``: also write
     ``animation.mp4``, ``report.html`` (:func:`write_result`)."""
     from walk3d.solve import run_solver
+    from walk3d.solve.landing import solve_with_landing
     from walk3d.solve.starts import solve_warm
 
     warm = threading.Thread(target=_warm_up_plots, name="walk3d-plots", daemon=True)
     if out_dir is not None and figure:
         warm.start()
     if warm_from is None:
-        outcome = run_solver(settings, seed, solver, on_stage=on_stage)
+
+        def first(given: PredictionSettings):
+            return run_solver(given, seed, solver, on_stage=on_stage)
     else:
         x_ref = similarity.subject_x(warm_from, 1.0 / similarity.length_scale(settings))
-        outcome = solve_warm(settings, x_ref, solver, on_stage=on_stage)
-    settings = with_predicted(settings, outcome.descriptors)
+
+        def first(given: PredictionSettings):
+            return solve_warm(given, x_ref, solver, on_stage=on_stage)
+
+    outcome = solve_with_landing(settings, first, solver, on_stage)
+    settings = with_predicted(settings, outcome.descriptors, outcome.handover)
     if on_stage:
         on_stage("evaluating the cycle")
     body = body_for(settings)

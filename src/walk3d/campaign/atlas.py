@@ -32,12 +32,14 @@ ATLAS_SPEEDS = "0.6:2.0:0.1"
 
 def atlas_settings(sex: str, criterion: str, nodes: int = 20) -> PredictionSettings:
     """The reference subject's settings the atlas of ``sex`` and ``criterion`` solves: the
-    descriptors predicted, started from standing (an atlas is not built from an atlas)."""
+    descriptors predicted with the free landing (the first of :mod:`walk3d.solve.landing`'s two
+    solves, which the atlas starts), started from standing (an atlas is not built from an
+    atlas)."""
     t, td = descriptors.first_guess(1.3, similarity.REFERENCE_HEIGHT_M)
     return PredictionSettings(
         mass=similarity.REFERENCE_MASS_KG, height=similarity.REFERENCE_HEIGHT_M, sex=sex,
         criterion=criterion, speed=1.3, period=t, double_support=td, free=descriptors.NAMES,
-        nodes=nodes, start="standing",
+        nodes=nodes, start="standing", handover=False,
     )  # fmt: skip
 
 

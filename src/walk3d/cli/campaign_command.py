@@ -46,7 +46,7 @@ def campaign(
     starts: Annotated[int, typer.Option("--starts", help="Number of random starts.")],
     out: Annotated[str, typer.Option("--out", help="Campaign folder (created or resumed).")],
     criterion: Criterion = DEFAULT_PRESET,
-    handover: Handover = False,
+    handover: Handover = True,
     seed: Annotated[
         int, typer.Option("--seed", help="Base seed: start k uses seed+k.", rich_help_panel=SOLVER)
     ] = 0,

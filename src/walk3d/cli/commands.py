@@ -151,7 +151,7 @@ def predict(
     height: Height = 1.77,
     sex: Sex = "male",
     criterion: Criterion = DEFAULT_PRESET,
-    handover: Handover = False,
+    handover: Handover = True,
     seed: Annotated[int, typer.Option("--seed", help="Random start.", rich_help_panel=SOLVER)] = 0,
     solver: SolverName = "ipopt",
     nodes: Nodes = 20,
@@ -304,7 +304,7 @@ def compile_model(
     height: Height = 1.77,
     sex: Sex = "male",
     criterion: Criterion = DEFAULT_PRESET,
-    handover: Handover = False,
+    handover: Handover = True,
     nodes: Nodes = 20,
     calibration: CalibrationFile = None,
 ) -> None:

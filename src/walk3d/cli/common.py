@@ -76,10 +76,11 @@ Criterion = Annotated[
 Handover = Annotated[
     bool,
     typer.Option(
-        "--handover",
-        help="Pass the chain's root from the trailing to the leading foot over double support, "
-        "so velocities are continuous at heel strike and OpenSim's inverse dynamics needs no "
-        "residual force (walk3d verify). Moves the predicted T and Td (docs/opensim.md).",
+        "--handover/--free-landing",
+        help="Pass the chain's root from the trailing to the leading foot over double support "
+        "(the default), so velocities are continuous at heel strike and OpenSim's inverse "
+        "dynamics needs no residual force (walk3d verify); --free-landing: the paper's switch "
+        "at heel strike. T and Td are predicted with the free landing (docs/opensim.md).",
         rich_help_panel=MODEL,
     ),
 ]

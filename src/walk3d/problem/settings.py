@@ -128,11 +128,12 @@ class ModelSettings(_Group):
     transition_ratios: tuple[float, float, float, float] | None = None
     """Calibrated ``(μ_x, μ_z, ϖ_x, ϖ_y)`` of Eqs. 7–8 (right-foot signs). None: read at heel
     strike from the total reaction (:mod:`walk3d.contact.transition`)."""
-    handover: bool = False
+    handover: bool = True
     """Whether the chain's root passes from the trailing to the leading foot over double support
     (:mod:`walk3d.problem.gait`), so that velocities are continuous at heel strike and OpenSim's
-    inverse dynamics needs no residual force there (docs/opensim.md). Off: the paper's switch at
-    heel strike, with which the criterion's weights and the shipped atlas were chosen."""
+    inverse dynamics needs no residual force there (docs/opensim.md). On by default so results
+    replay in OpenSim; T and Td are still predicted with the paper's switch at heel strike, on
+    which the criterion's weights were tuned (:mod:`walk3d.solve.landing`)."""
 
     @field_validator("criterion")
     @classmethod

@@ -62,6 +62,9 @@ class SolveOutcome:
     descriptors: dict[str, float] = field(default_factory=dict)
     """The subject's period and double support at the end, s, when they were unknowns
     (``settings.gait.free``); empty otherwise."""
+    handover: bool = False
+    """Whether ``x`` was solved with the handover (``ModelSettings.handover``,
+    :mod:`walk3d.solve.landing`)."""
 
 
 STANDING_W0 = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0)
@@ -275,7 +278,7 @@ def warm_stage(
         iterations=record["iterations"], wall_time_s=time.perf_counter() - t0,
         stages=[record], max_constraint_violation=record["max_constraint_violation"],
         compiled_derivatives=sorted(solver.compiled),
-        descriptors=_descriptors(solver, z, scale),
+        descriptors=_descriptors(solver, z, scale), handover=solver.settings.model.handover,
     )  # fmt: skip
 
 
@@ -292,7 +295,7 @@ def merged(first: SolveOutcome, free: SolveOutcome, method: str) -> SolveOutcome
         max_constraint_violation=free.max_constraint_violation,
         compiled_derivatives=sorted(set(first.compiled_derivatives)
                                     | set(free.compiled_derivatives)),
-        descriptors=free.descriptors,
+        descriptors=free.descriptors, handover=free.handover,
     )  # fmt: skip
 
 
@@ -357,4 +360,5 @@ def solve_stages(
         max_constraint_violation=last["max_constraint_violation"],
         compiled_derivatives=sorted(solver.compiled),
         descriptors=_descriptors(solver, ends["previous"], scale),
+        handover=ref.model.handover,
     )

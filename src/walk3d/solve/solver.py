@@ -344,7 +344,6 @@ def compile_solver(
     t0 = time.perf_counter()
     settings = similarity.reference_problem(settings)[0]
     body = body_for(settings)
-    fns, _ = _model_functions(body, settings.model, True)
     done: list[str] = []
 
     def report(name: str, i: int, n: int) -> None:
@@ -352,9 +351,16 @@ def compile_solver(
         if on_done:
             on_done(name, i, n)
 
-    for kind in COMPILED_NODES:
-        key = _compiled_key(fns, settings, kind)
-        if compiled.load_functions(key, _chunk_names(kind)) is None:
-            compiled.compile_functions(key, _chunk_functions(settings, fns, kind), jobs, report)
+    # with the handover and predicted T and Td, the free landing is solved first (solve.landing)
+    models = [settings.model]
+    if settings.model.handover and settings.gait.free:
+        models.insert(0, settings.model.model_copy(update={"handover": False}))
+    for model in models:
+        fns, _ = _model_functions(body, model, True)
+        solved = settings.model_copy(update={"model": model})
+        for kind in COMPILED_NODES:
+            key = _compiled_key(fns, solved, kind)
+            if compiled.load_functions(key, _chunk_names(kind)) is None:
+                compiled.compile_functions(key, _chunk_functions(solved, fns, kind), jobs, report)
     _build.cache_clear()  # the next build_solver loads what was compiled
     return {"compiled": len(done), "wall_time_s": time.perf_counter() - t0}

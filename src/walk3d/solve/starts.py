@@ -124,15 +124,18 @@ def solve_warm(
     method: str = "ipopt",
     on_stage: Callable[[str], None] | None = None,
     s0: tuple[float, float] | None = None,
+    origin: str = "a neighbour",
+    max_iter: int | None = None,
 ) -> SolveOutcome:
     """The full problem of ``settings`` from another prediction's decision vector ``x_ref``
     (the reference subject's units, ``SolveOutcome.z[:N_X]``) and descriptors ``s0`` (the
     reference subject's; default: the settings' first guess): a neighbour's solution in
-    ``walk3d sweep``."""
+    ``walk3d sweep``. ``origin`` names the start in the stage's title; ``max_iter``: the
+    stage's own limit when None."""
     with interruptible():
         ref, scale = similarity.reference_problem(settings)
         solver = build_solver(ref, method)
-        outcome = warm_stage(solver, _last_stage(solver, ref, "a neighbour"), x_ref, scale,
-                             on_stage, s0)  # fmt: skip
+        stage = _last_stage(solver, ref, origin, max_iter)
+        outcome = warm_stage(solver, stage, x_ref, scale, on_stage, s0)
         outcome.stages[-1]["start"] = "warm"
         return outcome
