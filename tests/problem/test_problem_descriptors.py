@@ -155,7 +155,7 @@ def test_given_descriptors_keep_the_paper_problem():
     """Without a predicted descriptor the NLP is the regular-grid one: no s, the same rows and
     the same values as the values recorded before s existed (C_tor objective and g at a fixed
     point, to 1e-9)."""
-    s = PredictionSettings(nodes=6)
+    s = PredictionSettings(nodes=6, handover=False)  # the problem the values were recorded on
     prob, sch, _ = nlp.build_nlp(body_for(s), s)
     assert sch.weights is None and nlp_layout(body_for(s), s, sch).n_s == 0
     rng = np.random.default_rng(11)

@@ -16,7 +16,7 @@ from walk3d.problem.settings import PredictionSettings
 
 @pytest.fixture(scope="module")
 def setup():
-    s = PredictionSettings(nodes=8)
+    s = PredictionSettings(nodes=8, handover=False)  # the paper's root switch; handover below
     body = build_body()
     return s, body, nlp.node_function(body, s.model)
 
@@ -128,7 +128,7 @@ def test_balance_split_shares_the_reaction_as_the_full_stage(setup, decay):
     R = nlp.G_ROWS
     rows = np.r_[R["root_force"], R["other_force"], R["hs_wrench"], R["root_support"],
                  R["other_support"]]  # fmt: skip
-    split = PredictionSettings(nodes=8, balance_split=True)
+    split = PredictionSettings(nodes=8, balance_split=True, handover=False)  # as `setup`
 
     def balance_rows(settings):
         fn = nlp.node_function(body, settings.model, dynamics=False, balance=True)

@@ -33,7 +33,7 @@ def make_prediction(settings, ev, converged: bool, seed: int = 0):
         stages=[{"start": "atlas"}], converged=converged, attempts=1, wall_time_s=12.3,
         status="Solve_Succeeded" if converged else "Maximum_Iterations_Exceeded",
         iterations=42, compiled_derivatives=[], max_constraint_violation=1e-9,
-        x=np.zeros(3),
+        x=np.zeros(3), handover=settings.model.handover,
     )  # fmt: skip
     return make(ev.prediction_arrays, summarize(settings, seed, outcome, ev, "ipopt"))
 

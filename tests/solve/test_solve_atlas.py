@@ -12,6 +12,7 @@ from walk3d.campaign.atlas import ENTRY_TOLERANCE, atlas_settings, fingerprint, 
 from walk3d.problem import layout
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import SOLVE_REVISION, atlas, starts
+from walk3d.solve.landing import LANDING, LANDING_MAX_ITER
 from walk3d.solve.plan import SUCCESS
 
 
@@ -152,7 +153,7 @@ def test_a_given_descriptor_keeps_its_value_in_an_atlas_start(monkeypatch, free)
 
     def fake_warm_stage(solver, stage, x, scale, on_stage, s0):
         seen.append(s0)
-        return SimpleNamespace(converged=True, stages=[{}])
+        return SimpleNamespace(converged=True, stages=[{}], handover=False)
 
     monkeypatch.setattr(starts, "warm_stage", fake_warm_stage)
     monkeypatch.setattr(starts, "build_solver", lambda ref, method: SimpleNamespace(plan={}))
@@ -174,7 +175,7 @@ def _outcome(converged, stages):
                            wall_time_s=1.0, x=np.zeros(layout.N_X), z=np.zeros(3),
                            status="Solve_Succeeded" if converged else "Maximum_Iterations",
                            max_constraint_violation=0.0, compiled_derivatives=[],
-                           descriptors={})  # fmt: skip
+                           descriptors={}, handover=False)  # fmt: skip
 
 
 def test_a_failed_atlas_start_falls_back_to_standing(monkeypatch):
@@ -196,7 +197,8 @@ def test_a_failed_atlas_start_falls_back_to_standing(monkeypatch):
 
 
 def test_a_prediction_from_the_atlas_walks_in_few_iterations():
-    """The default prediction's path: the atlas's starts, the full problem alone."""
+    """The default prediction's path: the atlas's starts, the full problem alone with the free
+    landing, then the handover at its T and Td (walk3d.solve.landing)."""
     from walk3d.pipeline import predict
 
     settings = PredictionSettings(
@@ -210,8 +212,10 @@ def test_a_prediction_from_the_atlas_walks_in_few_iterations():
     pred = predict(settings, 0)
     s = pred.summary
     assert s["start"] == "atlas" and s["converged"] and s["status"] in SUCCESS
-    assert all(st.get("start") == "atlas" for st in s["stages"])
-    assert s["iterations"] <= starts.ATLAS_TRIES * starts.ATLAS_MAX_ITER
+    assert [st.get("start") for st in s["stages"]][-2:] == ["atlas", LANDING]
+    assert all(st.get("start") == "atlas" for st in s["stages"][:-1])
+    assert s["landing"] == "handover" and s["settings"]["model"]["handover"]
+    assert s["iterations"] <= starts.ATLAS_TRIES * starts.ATLAS_MAX_ITER + LANDING_MAX_ITER
     assert s["gait_checks"]["looks_like_walking"]
     assert 0.9 < s["descriptors"]["period"] < 1.25
 

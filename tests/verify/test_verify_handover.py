@@ -1,6 +1,6 @@
-"""A prediction solved with the handover (the root passed between the feet over double support)
-passes every bar of ``walk3d verify`` over the whole cycle; the same coefficients with the root
-switched at heel strike do not (skipped without OpenSim)."""
+"""The default prediction, solved with the handover (the root passed between the feet over double
+support), passes every bar of ``walk3d verify`` over the whole cycle; the same coefficients with
+the root switched at heel strike do not (skipped without OpenSim)."""
 
 from __future__ import annotations
 

@@ -22,7 +22,8 @@ needs_opensim = pytest.mark.skipif(
 
 
 def evaluate_atlas():
-    """``(settings, body, evaluation)`` of the shipped male atlas solution at 1.3 m/s."""
+    """``(settings, body, evaluation)`` of the shipped male atlas solution at 1.3 m/s, with the
+    free landing it was solved with."""
     from walk3d.problem.settings import PredictionSettings, body_for
     from walk3d.results.evaluate import evaluate_cycle
 
@@ -32,7 +33,7 @@ def evaluate_atlas():
     settings = PredictionSettings(
         gait={"speed": SPEED, "period": entry["period"],
               "double_support": entry["double_support"]},
-        model=data["settings"]["model"],
+        model=data["settings"]["model"] | {"handover": False},  # as the atlas solved it
     )  # fmt: skip
     body = body_for(settings)
     return settings, body, evaluate_cycle(body, settings, np.array(entry["x"]))
@@ -47,8 +48,9 @@ def atlas_prediction():
 
 
 HANDOVER_FILE = Path(__file__).parent / "data" / "handover_male_1.300.json"
-"""The coefficients and settings of ``walk3d predict --handover --speed 1.3 --period 1.1296
---double-support 0.131`` (converged)."""
+"""The coefficients and settings of ``walk3d predict --speed 1.3 --period 1.1296
+--double-support 0.131`` (converged, with the handover): the default ``walk3d predict --speed
+1.3``'s cycle, whose predicted T and Td these are (walk3d.solve.landing)."""
 
 
 def handover_prediction(handover: bool = True):

@@ -1,0 +1,83 @@
+"""walk3d.solve.landing: T and Td predicted with the free landing, then the handover at them."""
+
+import numpy as np
+import pytest
+
+from walk3d import api
+from walk3d.pipeline import with_predicted
+from walk3d.problem import layout
+from walk3d.solve import landing
+from walk3d.solve.ipopt import SolveOutcome
+
+FOUND = {"period": 1.1, "double_support": 0.12}
+
+
+def _outcome(value: float, converged: bool = True, handover: bool = False, **kw) -> SolveOutcome:
+    z = np.full(layout.N_X + 2, value)
+    status = "Solve_Succeeded" if converged else "Maximum_Iterations_Exceeded"
+    return SolveOutcome(x=z[: layout.N_X] * 2, z=z, converged=converged, status=status,
+                        iterations=10, wall_time_s=1.0,
+                        stages=[{"start": "atlas", "attempt": 0, "status": status}],
+                        max_constraint_violation=value, handover=handover, **kw)  # fmt: skip
+
+
+@pytest.fixture
+def recorded(monkeypatch):
+    """The settings each solve was asked for; the handover solve converges unless told not to."""
+    calls = {"first": [], "warm": [], "smooth_converges": True}
+
+    def first(settings):
+        calls["first"].append(settings)
+        return _outcome(1.0, descriptors=dict(FOUND) if settings.gait.free else {})
+
+    def warm(settings, x_ref, method, on_stage, origin, max_iter):
+        calls["warm"].append((settings, np.array(x_ref), max_iter))
+        return _outcome(3.0, calls["smooth_converges"], handover=settings.model.handover)
+
+    monkeypatch.setattr(landing, "solve_warm", warm)
+    calls["run"] = lambda s: landing.solve_with_landing(s, first)
+    return calls
+
+
+def test_predicted_descriptors_come_from_the_free_landing_then_the_handover_at_them(recorded):
+    out = recorded["run"](api.settings(1.3, threads=1))
+    (free,) = recorded["first"]
+    assert not free.model.handover and free.gait.free
+    (given, x_ref, limit), = recorded["warm"]  # fmt: skip
+    assert given.model.handover and not given.gait.free
+    assert (given.gait.period, given.gait.double_support) == (1.1, 0.12)
+    assert np.all(x_ref == 1.0) and x_ref.size == layout.N_X  # the free optimum, reference units
+    assert limit == landing.LANDING_MAX_ITER
+    assert out.converged and out.handover and np.all(out.x == 6.0)
+    assert out.descriptors == FOUND and out.iterations == 20
+    assert [r["start"] for r in out.stages] == ["atlas", landing.LANDING]
+    assert landing.landing_of(out) == "handover"
+
+
+def test_a_handover_that_does_not_converge_keeps_the_free_landing(recorded):
+    recorded["smooth_converges"] = False
+    out = recorded["run"](api.settings(1.3, threads=1))
+    assert out.converged and not out.handover
+    assert np.all(out.x == 2.0) and out.max_constraint_violation == 1.0
+    assert out.stages[-1]["status"] == "Maximum_Iterations_Exceeded"
+    assert landing.landing_of(out).startswith("free: the handover")
+
+
+@pytest.mark.parametrize(
+    "options",
+    [{"period": 1.1, "double_support": 0.12}, {"handover": False}],
+    ids=["descriptors given", "free landing"],
+)
+def test_one_solve_when_nothing_is_predicted_or_no_handover_is_asked(recorded, options):
+    settings = api.settings(1.3, threads=1, **options)
+    out = recorded["run"](settings)
+    assert recorded["first"] == [settings] and not recorded["warm"]
+    assert landing.landing_of(out) == "free"  # the fake first solve reports no handover
+
+
+def test_the_evaluated_settings_take_the_landing_the_cycle_was_solved_with():
+    settings = api.settings(1.3, threads=1)
+    assert settings.model.handover
+    kept = with_predicted(settings, FOUND, handover=False)
+    assert not kept.model.handover and kept.gait.period == 1.1
+    assert with_predicted(settings, FOUND).model.handover
