@@ -4,9 +4,11 @@
 Each ``--weights`` item (``base``, or changes like ``jerk=1`` or ``jerk=1,impact=3``) is applied
 to the ``natural`` preset; for each measured trial the reference-subject problem (dynamic
 similarity) is solved warm from the atlas start that ``walk3d predict`` would take, with T and Td
-predicted, and the predicted T and Td are compared with the measured ones (docs/descriptors.md,
-"The period and the criterion"). ``--sensitivity`` instead halves and doubles every weight on
-Winter's case. Needs no compiled derivatives for the changed criteria (slower, same result).
+predicted (with the free landing, as ``walk3d predict`` predicts them; ``--handover``: with the
+handover instead), and the predicted T and Td are compared with the measured ones
+(docs/descriptors.md, "The period and the criterion"). ``--sensitivity`` instead halves and
+doubles every weight on Winter's case. Needs no compiled derivatives for the changed criteria
+(slower, same result).
 """
 
 from __future__ import annotations
@@ -88,7 +90,9 @@ def main() -> None:
     ap.add_argument("--weights", nargs="*", default=["base", "accel=1", "jerk=1", "impact=2.5"])
     ap.add_argument("--trials", default="falisse,subject01,winter")
     ap.add_argument("--sensitivity", action="store_true")
-    ap.add_argument("--handover", action="store_true", help="solve with ModelSettings.handover")
+    ap.add_argument("--handover", action="store_true",
+                    help="predict T and Td with the handover in the problem (walk3d predict "
+                    "predicts them with the free landing, walk3d.solve.landing)")  # fmt: skip
     environment.add_output_arguments(ap, NAME)
     args = ap.parse_args()
     base = dict(terms.PRESETS["natural"])

@@ -1,6 +1,6 @@
 """Realism target of issue #23: the default preset against its limits, in one command.
 
-    python benchmarks/realism.py [--criterion natural] [--seed 0] [--reference]
+    python benchmarks/realism.py [--criterion natural] [--seed 0] [--free-landing] [--reference]
 
 Runs ``walk3d predict`` (default preset and seed unless given) on:
 
@@ -11,7 +11,9 @@ Runs ``walk3d predict`` (default preset and seed unless given) on:
   checks that need no measured reference (peak vertical GRF, pelvis rotation range, step width,
   roughness, looks like walking) and the worst constraint excess on the 101-sample cycle.
 
-Predictions go to ``benchmarks/runs/realism/<criterion>/`` (git-ignored; reused when present).
+``--free-landing`` solves them with the paper's switch at heel strike instead of the handover.
+Predictions go to ``benchmarks/runs/realism/<criterion>[-free-landing]/`` (git-ignored; reused
+when present).
 The table and the environment go to ``benchmarks/runs/realism-<stamp>.json`` (``--reference``:
 ``benchmarks/reference/realism.json``). Exit code 0 whether or not the limits hold.
 """
@@ -53,10 +55,10 @@ FREE = {
 }
 
 
-def _predict(args: list[str], out: Path, criterion: str, seed: int) -> dict:
+def _predict(args: list[str], out: Path, criterion: str, seed: int, extra: list[str]) -> dict:
     if not (out / "summary.json").exists():
         cmd = ["walk3d", "predict", *args, "--criterion", criterion, "--seed", str(seed),
-               "--out", str(out)]  # fmt: skip
+               *extra, "--out", str(out)]  # fmt: skip
         subprocess.run(cmd, check=False, stdout=subprocess.DEVNULL)
     return json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else {}
 
@@ -77,15 +79,19 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--criterion", default="natural")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--free-landing", action="store_true", help="solve without the handover")
     environment.add_output_arguments(ap, "realism")
     a = ap.parse_args(argv)
-    root = ROOT / "benchmarks" / "runs" / "realism" / _folder(a.criterion)
+    extra = ["--free-landing"] if a.free_landing else []
+    folder = _folder(a.criterion) + ("-free-landing" if a.free_landing else "")
+    root = ROOT / "benchmarks" / "runs" / "realism" / folder
     result: dict = {"environment": environment.environment(), "criterion": a.criterion,
-                    "seed": a.seed, "falisse": {}, "speeds": {}}  # fmt: skip
+                    "seed": a.seed, "free_landing": a.free_landing, "falisse": {},
+                    "speeds": {}}  # fmt: skip
     if DATA.is_dir():
         args, refs, _ = SOURCES["falisse"]
         out = root / "falisse"
-        summary = _predict(args, out, a.criterion, a.seed)
+        summary = _predict(args, out, a.criterion, a.seed, extra)
         if summary and YARDSTICK.exists():
             cmd = [sys.executable, str(YARDSTICK), str(out), refs[0], "--json",
                    "--limits", json.dumps(LIMITS)]  # fmt: skip
@@ -105,7 +111,7 @@ def main(argv: list[str] | None = None) -> int:
     else:
         print(f"no measured data at {DATA}: the Falisse rows are skipped")
     for name, args in SPEEDS.items():
-        s = _predict(args, root / name, a.criterion, a.seed)
+        s = _predict(args, root / name, a.criterion, a.seed, extra)
         g = s.get("gait_checks", {})
         row = {k: g.get(k) for k in FREE} | {
             "looks_like_walking": g.get("looks_like_walking"), "converged": s.get("converged"),
