@@ -74,8 +74,10 @@ def test_ctrl_c_stops_a_campaign_with_one_line_and_keeps_finished_starts(tmp_pat
     finished starts stay and no temporary is left."""
     out = tmp_path / "c"
     env = os.environ | {"OPENBLAS_NUM_THREADS": "1"}
+    default = lambda: signal.signal(signal.SIGINT, signal.SIG_DFL)  # noqa: E731 (not inherited SIG_IGN)
     proc = subprocess.Popen(_command(out), start_new_session=True, env=env, text=True,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)  # fmt: skip
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            preexec_fn=default)  # fmt: skip
     try:
         _wait_for_finished(proc, out, 1, "Ctrl-C")
         os.killpg(proc.pid, signal.SIGINT)
