@@ -6,7 +6,7 @@ import pytest
 from walk3d import api
 from walk3d.pipeline import with_predicted
 from walk3d.problem import layout
-from walk3d.solve import landing
+from walk3d.solve import landing, starts
 from walk3d.solve.ipopt import SolveOutcome
 
 FOUND = {"period": 1.1, "double_support": 0.12}
@@ -34,7 +34,7 @@ def recorded(monkeypatch):
         calls["warm"].append((settings, np.array(x_ref), max_iter))
         return _outcome(3.0, calls["smooth_converges"], handover=settings.model.handover)
 
-    monkeypatch.setattr(landing, "solve_warm", warm)
+    monkeypatch.setattr(starts, "solve_warm", warm)
     calls["run"] = lambda s: landing.solve_with_landing(s, first)
     return calls
 

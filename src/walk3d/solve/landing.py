@@ -14,11 +14,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 from walk3d.problem import layout
 from walk3d.problem.settings import PredictionSettings
-from walk3d.solve.ipopt import SolveOutcome
-from walk3d.solve.starts import solve_warm
+
+if TYPE_CHECKING:  # the solvers load only when a solve runs, not with walk3d.pipeline
+    from walk3d.solve.ipopt import SolveOutcome
 
 __all__ = ["LANDING", "LANDING_MAX_ITER", "landing_of", "solve_with_landing"]
 
@@ -27,7 +29,8 @@ LANDING = "landing"
 
 LANDING_MAX_ITER = 150
 """Iteration limit of the handover solve at the predicted T and Td: over the atlas's speeds the
-converged ones took 29–57 iterations, and one that had not converged by 400 did not."""
+converged ones took 25–64 iterations, and one that had not converged by 400 did not
+(``benchmarks/landing.py``)."""
 
 
 def solve_with_landing(
@@ -41,20 +44,20 @@ def solve_with_landing(
     landing and the handover follows at its T and Td (module docstring)."""
     if not (settings.model.handover and settings.gait.free):
         return first(settings)
+    from walk3d.solve import ipopt, starts
+
     free = first(settings.replace(handover=False))
     if not free.converged:
         return free
     given = settings.replace(free=(), **free.descriptors)
-    smooth = solve_warm(given, free.z[: layout.N_X], method, on_stage,
-                        origin="the free landing's optimum", max_iter=LANDING_MAX_ITER)  # fmt: skip
-    smooth.stages[-1].update(start=LANDING, attempt=free.stages[-1].get("attempt", 0))
-    both = replace(
-        smooth, iterations=free.iterations + smooth.iterations,
-        wall_time_s=free.wall_time_s + smooth.wall_time_s, stages=[*free.stages, *smooth.stages],
-        attempts=free.attempts, descriptors=free.descriptors,
-        compiled_derivatives=sorted(set(free.compiled_derivatives)
-                                    | set(smooth.compiled_derivatives)),
-    )  # fmt: skip
+    smooth = starts.solve_warm(given, free.z[: layout.N_X], method, on_stage,
+                               origin="the free landing's optimum",
+                               max_iter=LANDING_MAX_ITER)  # fmt: skip
+    smooth.stages[-1]["start"] = LANDING
+    # the handover stage is not another start: free's attempts and T, Td stand
+    both = replace(ipopt.merged(free, smooth, method), attempts=free.attempts,
+                   descriptors=free.descriptors)  # fmt: skip
+    both.stages[-1]["attempt"] = free.stages[-1].get("attempt", 0)
     if smooth.converged:
         return both
     if on_stage:
