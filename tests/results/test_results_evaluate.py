@@ -19,33 +19,33 @@ def cycle():
     return s, body, x, evaluate_cycle(body, s, x, n_samples=2161)
 
 
-def test_ground_reaction_equals_momentum_rate_of_the_segments(cycle):
-    s, body, _, ev = cycle
-    a = ev.prediction_arrays
+def _momentum_residual(a: dict) -> tuple[np.ndarray, np.ndarray]:
+    """``(t, total ground reaction − (Σ m a + M g))`` at the inner samples of the prediction
+    arrays ``a``, s and N (segment accelerations by central differences)."""
     t, com = a["time"], a["segment_com_position"]
     dt = t[1] - t[0]
     acc = (com[2:] - 2 * com[1:-1] + com[:-2]) / dt**2
     mass = a["segment_mass"]
     expected = np.einsum("s,nsk->nk", mass, acc) + np.array([0, mass.sum() * G, 0])
-    total = a["grf_force"].sum(axis=1)[1:-1]
+    return t[1:-1], a["grf_force"].sum(axis=1)[1:-1] - expected
+
+
+def test_ground_reaction_equals_momentum_rate_of_the_segments(cycle):
+    s, body, _, ev = cycle
+    tm, residual = _momentum_residual(ev.prediction_arrays)
+    dt = tm[1] - tm[0]
     ph = GaitPhases(s.gait.period, s.gait.double_support)
-    tm = t[1:-1]
     away = (np.abs(tm - ph.heel_strike_r) > 5 * dt) & (np.abs(tm - ph.heel_strike_l) > 5 * dt)
-    err = np.abs(total - expected)[away]
+    err = np.abs(residual)[away]
     assert np.max(err) < 1e-3 * body.mass * G
 
 
 def _momentum_error(settings, x, n: int = 2161) -> np.ndarray:
-    """|total ground reaction − (Σ m a + M g)| at the inner samples, N (a by finite differences)."""
+    """|total ground reaction − (Σ m a + M g)| at the inner samples, N."""
     from walk3d.problem.settings import body_for
 
     a = evaluate_cycle(body_for(settings), settings, x, n_samples=n).prediction_arrays
-    dt = a["time"][1] - a["time"][0]
-    com = a["segment_com_position"]
-    acc = (com[2:] - 2 * com[1:-1] + com[:-2]) / dt**2
-    mass = a["segment_mass"]
-    expected = np.einsum("s,nsk->nk", mass, acc) + np.array([0, mass.sum() * G, 0])
-    return np.linalg.norm(a["grf_force"].sum(axis=1)[1:-1] - expected, axis=1)
+    return np.linalg.norm(_momentum_residual(a)[1], axis=1)
 
 
 def test_with_the_handover_the_ground_reaction_is_the_momentum_rate_at_heel_strike_too():
