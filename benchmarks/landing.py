@@ -27,14 +27,12 @@ import environment  # noqa: E402
 NAME = "landing"
 
 
-def _residuals(pred, body, folder: Path) -> dict:
+def _residuals(pred, folder: Path) -> dict:
     """``walk3d verify``'s pelvis residual peaks (% BW) and verdict for ``pred``."""
     from walk3d.results.prediction import save_prediction
-    from walk3d.verify.run import verify_prediction
+    from walk3d.verify.run import verify_folder
 
-    out = Path(save_prediction(pred, folder))
-    v = verify_prediction(pred, body, out / "model.osim", out / "motion.mot", out / "grf.xml",
-                          out / "inverse_dynamics.sto")  # fmt: skip
+    v = verify_folder(save_prediction(pred, folder))
     peaks = [round(r.peak_pct_bw, 2) for r in v.whole.residuals]
     return {"residual_peak_pct_bw": peaks, "passes": bool(v.passes())}
 
@@ -56,8 +54,7 @@ def run_one(sex: str, i: int, verify: bool) -> dict:
     out = solve_warm(s, a.x[i], origin="the atlas entry", max_iter=LANDING_MAX_ITER)
     wall = time.perf_counter() - t0
     forget_solvers()
-    body = body_for(s)
-    ev = evaluate_cycle(body, s, out.x)
+    ev = evaluate_cycle(body_for(s), s, out.x)
     pred = make_prediction(ev.prediction_arrays, summarize(s, 0, out, ev, "ipopt"))
     g = pred.summary["gait_checks"]
     row = {"sex": sex, "speed": v, "period": t, "double_support": td,
@@ -66,7 +63,7 @@ def run_one(sex: str, i: int, verify: bool) -> dict:
            "peak_vertical_grf_bw": g["peak_vertical_grf_bw"]}  # fmt: skip
     if verify and out.converged:
         with tempfile.TemporaryDirectory() as tmp:
-            row["verify"] = _residuals(pred, body, Path(tmp) / "cycle")
+            row["verify"] = _residuals(pred, Path(tmp) / "cycle")
     return row
 
 
