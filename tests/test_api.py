@@ -48,6 +48,8 @@ def test_root_names_are_the_api_even_after_the_pipeline_module_is_imported():
     [
         ({"speed": -1.0}, r"speed must be in \(0, 4\] m/s"),
         ({"speed": 1.3, "period": 1.0, "double_support": 0.6}, "double-support duration"),
+        ({"speed": 1.3, "period": 0.1}, r"period must be in \[0.6, 2.5\] s"),
+        ({"speed": 1.3, "period": 1.0, "double_support": 0.01}, "double-support duration"),
         ({"speed": 1.3, "double_support": 0.9}, "fits no predicted period"),
         ({"speed": 1.3, "mass": 5.0}, "body mass"),
         ({"speed": 1.3, "criterion": "nonsense"}, "criterion"),

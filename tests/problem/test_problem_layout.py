@@ -95,7 +95,7 @@ def test_balance_progress_checks_read_as_iteration_to_violation():
         ({"speed": -1.0}, "speed"),
         ({"period": 0.0}, "period"),
         ({"double_support": 0.0}, "double-support"),
-        ({"double_support": 0.6}, "T/2"),
+        ({"double_support": 0.6}, "2%-30% of T"),
         ({"speed": float("nan")}, "finite"),
         ({"mass": 5.0}, "mass"),
         ({"height": 3.5}, "height"),

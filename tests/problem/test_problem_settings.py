@@ -62,7 +62,7 @@ def test_flat_fields_are_routed_to_their_groups():
 @pytest.mark.parametrize(
     ("kwargs", "words"),
     [
-        ({"double_support": 0.6}, "double-support duration must be in (0, T/2)"),
+        ({"double_support": 0.6}, "double-support duration must be 2%-30% of T"),
         ({"speed": math.nan}, "speed must be a finite number"),
         ({"friction": 3.0}, "friction must be in (0, 2]"),
         ({"nodes": 3}, "nodes must be in [6, 200]"),
@@ -78,12 +78,72 @@ def test_bad_settings_give_one_line_naming_the_setting(kwargs, words):
     assert "\n" not in first_error(info.value)
 
 
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"period": 0.1}, "period must be in [0.6, 2.5] s"),
+        ({"period": 0.59, "double_support": 0.06}, "period must be in [0.6, 2.5] s"),
+        ({"period": 2.6, "double_support": 0.3}, "period must be in [0.6, 2.5] s"),
+        ({"period": 1.08, "double_support": 0.02}, "double-support duration must be 2%-30% of T"),
+        ({"period": 1.08, "double_support": 0.33}, "double-support duration must be 2%-30% of T"),
+        ({"period": 1.08, "double_support": 0.16, "free": ("period",), "speed": 1.2}, None),
+        ({"period": 0.6, "double_support": 0.012}, None),
+        ({"period": 2.5, "double_support": 0.75}, None),
+    ],
+)
+def test_given_period_and_double_support_are_within_walking(kwargs, words):
+    """T 0.6-2.5 s and Td 2-30 % of T (walk3d.problem.descriptors.GIVEN_*): a period of 0.1 s
+    is refused before any solve; the bounds themselves pass (negative control)."""
+    if words is None:
+        PredictionSettings(**kwargs)
+        return
+    with pytest.raises(ValueError) as info:
+        PredictionSettings(**kwargs)
+    assert words in str(info.value) and "\n" not in str(info.value)
+
+
+def test_the_atlas_and_sweep_ranges_are_within_the_given_bounds():
+    """Every first guess of a sweep (0.1-4 m/s, statures 1.0-2.4 m), the atlas's entries and the
+    paper's case are valid settings."""
+    from walk3d.problem.descriptors import first_guess
+    from walk3d.solve.atlas import ATLAS_DIR, load_atlas
+
+    for height in (1.0, 1.5, 1.77, 2.0, 2.4):
+        for speed in [v / 10 for v in range(1, 41)]:
+            t, td = first_guess(speed, height)
+            PredictionSettings(speed=speed, height=height, period=t, double_support=td)
+    entries = 0
+    for path in ATLAS_DIR.glob("*.json"):
+        a = load_atlas(*path.stem.split("-", 1))
+        for t, td in zip(a.periods, a.double_supports, strict=True):
+            PredictionSettings(period=float(t), double_support=float(td))
+            entries += 1
+    assert entries > 10
+    PredictionSettings(period=1.08, double_support=0.16)
+
+
+def test_pydantic_errors_become_one_plain_line():
+    """PredictionSettings raises a one-line ValueError, not pydantic's multi-line
+    ValidationError with its web link (the CLI prints str(exc) as is)."""
+    from pydantic import ValidationError
+
+    with pytest.raises(ValueError) as info:
+        PredictionSettings(speed=math.nan)
+    assert not isinstance(info.value, ValidationError)
+    assert str(info.value) == "speed must be a finite number, got nan"
+    with pytest.raises(ValueError) as info:
+        PredictionSettings(**{"gait": {"sex": "other"}})
+    assert "\n" not in str(info.value) and "pydantic" not in str(info.value)
+    with pytest.raises(ValidationError):  # control: a group built alone is pydantic's error
+        GaitSettings(speed=math.nan)
+
+
 def test_replace_validates_and_keeps_the_rest():
     base = PredictionSettings(nodes=12)
     faster = base.replace(speed=1.5, max_iter=50)
     assert (faster.gait.speed, faster.solver.max_iter, faster.solver.nodes) == (1.5, 50, 12)
     assert faster.model == base.model and base.gait.speed == 1.3806
-    with pytest.raises(ValueError, match="T/2"):
+    with pytest.raises(ValueError, match="double-support duration"):
         base.replace(double_support=0.7)
 
 

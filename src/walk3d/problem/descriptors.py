@@ -42,6 +42,23 @@ cadence spans about 70–150 steps/min from slow to fast walking."""
 DS_FRACTION_RANGE = (0.05, 0.22)
 """Bounds on Td / T: each double support is 5–22 % of the cycle, a stance of 55–72 %, which
 covers adults from fast to slow walking."""
+GIVEN_PERIOD_S = (0.6, 2.5)
+"""Bounds on a given T, s: cadence 48–200 steps/min, slowest walking measured to race walking."""
+GIVEN_DS_FRACTION = (0.02, 0.3)
+"""Bounds on a given Td / T: stance 52–80 % of the cycle, race walking to very slow walking."""
+
+
+def given_checks(period: float, ds: float) -> list[tuple[bool, str]]:
+    """``(ok, message)`` for a given T and Td (s) against :data:`GIVEN_PERIOD_S` and
+    :data:`GIVEN_DS_FRACTION`; :class:`~walk3d.problem.settings.GaitSettings` checks them."""
+    (t_lo, t_hi), (f_lo, f_hi) = GIVEN_PERIOD_S, GIVEN_DS_FRACTION
+    return [
+        (t_lo <= period <= t_hi,
+         f"period must be in [{t_lo:g}, {t_hi:g}] s (48-200 steps/min), got {period}"),
+        (f_lo * period <= ds <= f_hi * period,
+         f"double-support duration must be {f_lo:.0%}-{f_hi:.0%} of T, in [{f_lo * period:.3g}, "
+         f"{f_hi * period:.3g}] s for T {period:g} s, got {ds}"),
+    ]  # fmt: skip
 
 
 @dataclass(frozen=True)

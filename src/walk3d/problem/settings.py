@@ -18,9 +18,9 @@ from __future__ import annotations
 import math
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, ValidationError, field_validator, model_validator
 
-from walk3d.problem import terms
+from walk3d.problem import descriptors, terms
 
 __all__ = ["GaitSettings", "ModelSettings", "PredictionSettings", "SolverSettings",
            "available_cores", "body_for", "first_error", "flat_settings", "ratios_for",
@@ -66,10 +66,7 @@ class GaitSettings(_Group):
     def _ranges(self) -> GaitSettings:
         self._check([
             (0 < self.speed <= 4.0, f"speed must be in (0, 4] m/s, got {self.speed}"),
-            (0 < self.period <= 4.0, f"period must be in (0, 4] s, got {self.period}"),
-            (0 < self.double_support < self.period / 2,
-             f"double-support duration must be in (0, T/2) = (0, {self.period / 2:g}) s, "
-             f"got {self.double_support}"),
+            *descriptors.given_checks(self.period, self.double_support),
             (20 <= self.mass <= 250, f"body mass must be in [20, 250] kg, got {self.mass}"),
             (1.0 <= self.height <= 2.4, f"height must be in [1.0, 2.4] m, got {self.height}"),
             (len(set(self.free)) == len(self.free), f"free descriptors repeat: {self.free}"),
@@ -306,6 +303,12 @@ class PredictionSettings(BaseModel):
     gait: GaitSettings = GaitSettings()
     model: ModelSettings = ModelSettings()
     solver: SolverSettings = SolverSettings()
+
+    def __init__(self, /, **data: Any) -> None:
+        try:
+            super().__init__(**data)
+        except ValidationError as exc:  # one line (first_error), never pydantic's own
+            raise ValueError(first_error(exc)) from None
 
     @model_validator(mode="before")
     @classmethod
