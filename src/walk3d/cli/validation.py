@@ -38,8 +38,8 @@ def validate(
     from walk3d.validation.tables import table2, table3
 
     try:
-        pred = load_result(pred_dir)
-    except (OSError, DataFileError) as exc:
+        pred = load_result(pred_dir)  # the reader of walk3d verify, report and animate
+    except (OSError, ValueError) as exc:
         fail(f"cannot read the prediction {pred_dir}: {' '.join(str(exc).split())}")
     target = out if out is not None else os.path.join(pred_dir, "validation")
     if threshold <= 0:

@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from walk3d.io._atomic import atomic_write_text
+from walk3d.io.checks import read_json_object
 from walk3d.io.errors import DataFileError
 
 __all__ = ["CALIBRATION_VERSION", "read_calibration", "write_calibration"]
@@ -66,20 +67,12 @@ def read_calibration(path: str | PathLike[str]) -> dict[str, Any]:
         DataFileError: Not JSON, another version, or a missing or malformed entry.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
-        raise DataFileError(path, "not a text file (invalid UTF-8)") from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise DataFileError(path, f"invalid JSON: {exc.msg}", exc.lineno) from None
+    data = read_json_object(path, "calibration file")
+    text = path.read_text(encoding="utf-8-sig")
 
     def fail(reason: str, key: str | None = None) -> DataFileError:
         return DataFileError(path, reason, _line_of(text, key) if key else None)
 
-    if not isinstance(data, dict):
-        raise fail("a calibration file is a JSON object")
     version = data.get("walk3d_calibration")
     if version != CALIBRATION_VERSION:
         raise fail(f"not a walk3d calibration of version {CALIBRATION_VERSION} "

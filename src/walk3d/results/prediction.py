@@ -43,6 +43,7 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.io._atomic import atomic_folder, atomic_write_bytes, atomic_write_text
+from walk3d.io.checks import plain_file_name, read_json_object, read_npz, require_finite
 from walk3d.io.errors import DataFileError
 from walk3d.io.osim import write_osim
 from walk3d.results.inverse_dynamics import write_inverse_dynamics
@@ -256,15 +257,17 @@ def check_complete(out_dir: str | PathLike[str]) -> None:
     path = out / MANIFEST
     if not out.is_dir():
         raise DataFileError(out, "not a result folder")
-    try:
-        manifest = json.loads(path.read_text(encoding="utf-8"))
-        files = dict(manifest["files"])
-    except FileNotFoundError:
+    if not path.is_file():
         raise DataFileError(
             out, f"incomplete result folder: no {MANIFEST} (written last by walk3d predict)"
-        ) from None
-    except (OSError, ValueError, KeyError, TypeError) as exc:
-        raise DataFileError(path, f"unreadable manifest ({type(exc).__name__})") from None
+        )
+    files = read_json_object(path, "walk3d manifest").get("files")
+    if not isinstance(files, dict):
+        raise DataFileError(path, "not a walk3d manifest: no 'files' object")
+    for name, size in files.items():
+        plain_file_name(path, name, "listed file")
+        if not isinstance(size, int) or isinstance(size, bool) or size < 0:
+            raise DataFileError(path, f"the size of {name} is {size!r:.40}, not a byte count")
     for name in (*RESULT_FILES, *files):
         f = out / name
         if not f.is_file():
@@ -295,33 +298,32 @@ def load_result(out_dir: str | PathLike[str]) -> Prediction:
     """Read a result folder written by :func:`save_prediction` back into a :class:`Prediction`.
 
     Raises:
-        DataFileError: the folder is incomplete (:func:`check_complete`), ``result.npz`` lacks
-            an array or ``summary.json`` is not valid JSON.
+        DataFileError: the folder is incomplete (:func:`check_complete`), ``result.npz`` is
+            damaged, lacks an array or holds NaN or infinite values (NaN centres of pressure
+            aside), or ``summary.json`` is not a JSON object.
     """
     check_complete(out_dir)
     out = Path(out_dir)
     npz_path = out / "result.npz"
-    summary_path = out / "summary.json"
-    try:
-        summary = json.loads(summary_path.read_text(encoding="utf-8"))
-    except json.JSONDecodeError as exc:
-        raise DataFileError(summary_path, f"invalid JSON: {exc.msg}", exc.lineno) from None
-    if not isinstance(summary, dict):
-        raise DataFileError(summary_path, "the summary is not a JSON object")
-    values: dict[str, Any] = {"summary": summary}
-    with np.load(npz_path, allow_pickle=False) as data:
-        for f in fields(Prediction):
-            if f.name == "summary":
-                continue
-            if f.name not in data.files:
-                raise DataFileError(npz_path, f"missing array {f.name!r}")
-            arr = data[f.name]
-            if f.name in _NAME_FIELDS:
-                values[f.name] = tuple(str(s) for s in arr.tolist())
-            elif f.name == "joint_angle":
-                values[f.name] = np.radians(arr)
-            else:
-                values[f.name] = arr
+    values: dict[str, Any] = {"summary": read_json_object(out / "summary.json", "walk3d summary")}
+    arrays = read_npz(npz_path, "walk3d result")
+    for f in fields(Prediction):
+        if f.name == "summary":
+            continue
+        arr = arrays.get(f.name)
+        if arr is None:
+            raise DataFileError(npz_path, f"not a walk3d result: no array {f.name!r}")
+        if f.name in _NAME_FIELDS:
+            if arr.ndim != 1 or arr.dtype.kind != "U":
+                raise DataFileError(npz_path, f"{f.name} is not a list of names")
+            values[f.name] = tuple(arr.tolist())
+        elif f.name == "joint_axis_active":
+            if arr.dtype.kind != "b":
+                raise DataFileError(npz_path, f"{f.name} is not an array of booleans")
+            values[f.name] = arr
+        else:  # the centres of pressure are NaN while a foot is in the air
+            arr = require_finite(npz_path, f.name, arr, allow_nan=f.name == "grf_cop")
+            values[f.name] = np.radians(arr) if f.name == "joint_angle" else arr
     try:
         return Prediction(**values)
     except ValueError as exc:

@@ -1,0 +1,153 @@
+"""The checks every walk3d reader shares: JSON objects, NumPy archives, XML and finite arrays.
+
+Each refuses malformed, non-finite or degenerate content with one
+:class:`~walk3d.io.errors.DataFileError` line naming the file (a ``ValueError``, exit code 2
+on the command line), never another exception: a reader of a file format calls these instead
+of ``json.loads``, ``np.load`` or ``ET.parse`` directly.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+import xml.etree.ElementTree as ET
+from collections.abc import Iterable
+from os import PathLike
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from walk3d.io.errors import DataFileError
+
+__all__ = [
+    "finite_number",
+    "increasing",
+    "plain_file_name",
+    "read_json_object",
+    "read_npz",
+    "read_xml",
+    "require_finite",
+]
+
+
+def _read_bytes(path: Path) -> bytes:
+    try:
+        return path.read_bytes()
+    except IsADirectoryError:
+        raise DataFileError(path, "is a folder, not a file") from None
+
+
+def read_json_object(path: str | PathLike[str], what: str = "JSON file") -> dict[str, Any]:
+    """The JSON object in ``path`` (``what`` names the file's role in messages).
+
+    Raises:
+        FileNotFoundError: there is no such file.
+        DataFileError: not UTF-8, not valid JSON, nested too deep, or not a JSON object.
+    """
+    path = Path(path)
+    raw = _read_bytes(path)
+    try:
+        data = json.loads(raw.decode("utf-8-sig"))
+    except UnicodeDecodeError:
+        raise DataFileError(path, "not a text file (invalid UTF-8)") from None
+    except json.JSONDecodeError as exc:
+        raise DataFileError(path, f"invalid JSON: {exc.msg}", exc.lineno) from None
+    except (RecursionError, ValueError) as exc:  # nested too deep, huge integers
+        raise DataFileError(path, f"invalid JSON ({type(exc).__name__})") from None
+    if not isinstance(data, dict):
+        raise DataFileError(path, f"not a {what}: a JSON {type(data).__name__}, not an object")
+    return data
+
+
+def finite_number(path: str | PathLike[str], value: Any, what: str) -> float:
+    """``value`` as a finite float (a JSON number, not a bool), else one DataFileError line."""
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+    try:
+        number = float(value) if ok else math.nan
+    except OverflowError:
+        number = math.nan
+    if not math.isfinite(number):
+        raise DataFileError(path, f"{what} must be a finite number, got {value!r:.40}")
+    return number
+
+
+def plain_file_name(path: str | PathLike[str], name: Any, what: str) -> str:
+    """``name`` if it is a plain file name (no folder part, no NUL), else a DataFileError."""
+    bad = not isinstance(name, str) or name in ("", ".", "..") or any(c in name for c in "/\\\0")
+    if bad:
+        raise DataFileError(path, f"{what} {name!r:.60} is not a plain file name")
+    return name
+
+
+def read_npz(path: str | PathLike[str], what: str = "NumPy .npz archive") -> dict[str, np.ndarray]:
+    """Every array of the ``.npz`` archive ``path``, read without pickles.
+
+    Raises:
+        FileNotFoundError: there is no such file.
+        DataFileError: not a zip archive of ``.npy`` arrays, or damaged (one line, whatever
+            NumPy or zipfile raised).
+    """
+    path = Path(path)
+    raw = _read_bytes(path)
+    if not raw.startswith(b"PK\x03\x04"):
+        raise DataFileError(path, f"not a {what}: the file is damaged or of another kind")
+    try:
+        with np.load(io.BytesIO(raw), allow_pickle=False) as data:
+            return {name: np.asarray(data[name]) for name in data.files}
+    except Exception as exc:  # whatever NumPy, zipfile or zlib raise on a damaged member
+        raise DataFileError(path, f"damaged {what} ({type(exc).__name__})") from None
+
+
+def read_xml(path: str | PathLike[str]) -> ET.ElementTree:
+    """The parsed XML document ``path``.
+
+    Raises:
+        FileNotFoundError: there is no such file.
+        DataFileError: not well-formed XML (with the line of the first error).
+    """
+    path = Path(path)
+    raw = _read_bytes(path)
+    try:
+        return ET.ElementTree(ET.fromstring(raw))
+    except ET.ParseError as exc:
+        raise DataFileError(path, f"invalid XML: {exc.msg}", exc.position[0]) from None
+    except (ValueError, RecursionError) as exc:
+        raise DataFileError(path, f"invalid XML ({type(exc).__name__})") from None
+
+
+def _index_text(shape: tuple[int, ...], flat: int) -> str:
+    return ", ".join(str(int(i)) for i in np.unravel_index(flat, shape)) if shape else ""
+
+
+def require_finite(
+    path: str | PathLike[str], name: str, values: Any, allow_nan: bool = False
+) -> np.ndarray:
+    """``values`` as a float array, refused with one DataFileError line naming ``name`` and
+    the first bad element when it holds NaN (unless ``allow_nan``) or an infinite value."""
+    try:
+        arr = np.asarray(values)
+        arr = arr.astype(float) if arr.dtype.kind in "biuf" else None
+    except (ValueError, TypeError, OverflowError):
+        arr = None
+    if arr is None:
+        raise DataFileError(path, f"{name} is not numeric")
+    bad = np.isinf(arr) if allow_nan else ~np.isfinite(arr)
+    if bad.any():
+        flat = int(np.flatnonzero(bad.reshape(-1))[0])
+        at = _index_text(arr.shape, flat)
+        raise DataFileError(path, f"{name} holds non-finite values ({int(bad.sum())}, the "
+                            f"first {arr.reshape(-1)[flat]} at [{at}])")  # fmt: skip
+    return arr
+
+
+def increasing(path: str | PathLike[str], name: str, values: Iterable[float]) -> np.ndarray:
+    """``values`` (finite) if strictly increasing, else one DataFileError line."""
+    arr = require_finite(path, name, list(values))
+    steps = np.diff(arr)
+    if steps.size and not (steps > 0).all():
+        k = int(np.flatnonzero(steps <= 0)[0])
+        raise DataFileError(path, f"{name} is not increasing: {arr[k]:g} then {arr[k + 1]:g} "
+                            f"(rows {k + 1} and {k + 2})")  # fmt: skip
+    return arr

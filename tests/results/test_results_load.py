@@ -1,0 +1,103 @@
+"""load_result's refusals: a result.npz of random bytes or with NaN or infinite arrays, and a
+manifest that lists a path; each one DataFileError line (exit code 2 on the command line)."""
+
+from __future__ import annotations
+
+import io
+import shutil
+
+import numpy as np
+import pytest
+from helpers import replace_result_file
+from test_results_prediction import make_prediction
+
+from walk3d.io.errors import DataFileError
+from walk3d.results import load_result, save_prediction
+
+
+@pytest.fixture(scope="module")
+def saved(tmp_path_factory):
+    return save_prediction(make_prediction(seed=4), tmp_path_factory.mktemp("load") / "r")
+
+
+@pytest.fixture()
+def copy(saved, tmp_path):
+    return shutil.copytree(saved, tmp_path / "r")
+
+
+def _npz(folder, **changes) -> bytes:
+    with np.load(folder / "result.npz") as data:
+        arrays = {k: data[k] for k in data.files} | changes
+    buffer = io.BytesIO()
+    np.savez(buffer, **arrays)
+    return buffer.getvalue()
+
+
+def _refused(folder, *words) -> str:
+    with pytest.raises(DataFileError) as info:
+        load_result(folder)
+    message = str(info.value)
+    assert "\n" not in message and all(w in message for w in words), message
+    return message
+
+
+def test_the_good_folder_loads(saved):
+    """Negative control of the refusals below: the folder they damage is accepted."""
+    assert load_result(saved).n_nodes > 0
+
+
+def test_random_bytes_are_not_a_walk3d_result_and_say_nothing_of_pickles(copy):
+    replace_result_file(copy, "result.npz", np.random.default_rng(0).bytes(5000))
+    message = _refused(copy, "result.npz", "not a walk3d result", "damaged")
+    assert "pickle" not in message
+
+
+@pytest.mark.parametrize("data", [b"PK\x03\x04" + bytes(300), b"", b"\x93NUMPY" + bytes(100)],
+                         ids=["zip-of-zeros", "empty", "npy"])  # fmt: skip
+def test_a_damaged_or_other_numpy_file_is_refused(copy, data):
+    replace_result_file(copy, "result.npz", data)
+    _refused(copy, "result.npz")
+
+
+@pytest.mark.parametrize("value", [np.nan, np.inf])
+def test_a_non_finite_joint_angle_is_refused_naming_the_array(copy, value):
+    with np.load(copy / "result.npz") as data:
+        angle = data["joint_angle"].copy()
+    angle[3, 2] = value
+    replace_result_file(copy, "result.npz", _npz(copy, joint_angle=angle))
+    _refused(copy, "result.npz", "joint_angle", "non-finite", "[3, 2]")
+
+
+def test_nan_centres_of_pressure_are_kept_but_infinite_ones_refused(copy):
+    """NaN is what a foot in the air has (the control); infinity is damage."""
+    with np.load(copy / "result.npz") as data:
+        cop = data["grf_cop"].copy()
+    cop[0, 0, :] = np.nan
+    replace_result_file(copy, "result.npz", _npz(copy, grf_cop=cop))
+    assert np.isnan(load_result(copy).grf_cop[0, 0]).all()
+    cop[1, 1, 0] = np.inf
+    replace_result_file(copy, "result.npz", _npz(copy, grf_cop=cop))
+    _refused(copy, "grf_cop")
+
+
+def test_names_that_are_numbers_are_refused(copy):
+    replace_result_file(copy, "result.npz", _npz(copy, dof_names=np.arange(3.0)))
+    _refused(copy, "dof_names", "names")
+
+
+@pytest.mark.parametrize(
+    "manifest",
+    ['{"files": {"../r/result.npz": 1}}', '{"files": {"result.npz": "big"}}', '{"files": []}',
+     "[1, 2]", '{"files": {"a\\u0000b": 1}}', "[" * 100000],
+    ids=["path", "size", "list", "array", "nul", "deep"],
+)  # fmt: skip
+def test_a_malformed_manifest_is_refused(copy, manifest):
+    (copy / "manifest.json").write_text(manifest, encoding="utf-8")
+    _refused(copy, "manifest.json")
+
+
+def test_a_summary_of_invalid_utf8_is_refused(copy):
+    replace_result_file(copy, "summary.json", b'{"a": "\xff"}')
+    _refused(copy, "summary.json", "UTF-8")
+    replace_result_file(copy, "summary.json", b"[]")
+    _refused(copy, "summary.json", "not an object")
