@@ -24,11 +24,16 @@ from typing import Any
 
 import numpy as np
 
+from walk3d.io.checks import increasing
 from walk3d.io.errors import DataFileError
 
-__all__ = ["CycleTable", "read_cycle_table"]
+__all__ = ["COVERAGE", "MIN_ROWS", "CycleTable", "read_cycle_table"]
 
 _PERCENT_NAMES = {"percent_cycle", "percent", "%gait cycle", "% gait cycle", "gait_cycle_percent"}
+MIN_ROWS = 11
+"""Fewest rows of a cycle table: one every 10 % of the cycle (fewer is no measured curve)."""
+COVERAGE = (5.0, 95.0)
+"""The percent column must start at or before the first and end at or after the second."""
 _UNIT_SUFFIXES = ("Nm_per_kg", "N_per_kg", "W_per_kg", "deg", "rad", "m_per_s", "m", "N", "Nm")
 
 
@@ -170,11 +175,29 @@ def _read_winter(path: Path, rows: list[tuple[int, list[str]]], start: int) -> C
     )
 
 
+def _cycle(path: Path, table: CycleTable) -> CycleTable:
+    """``table`` if it is a gait cycle: :data:`MIN_ROWS` rows or more, percent increasing
+    within 0-100 and covering :data:`COVERAGE`, not every mean constant."""
+    n = table.percent.size
+    if n < MIN_ROWS:
+        raise DataFileError(path, f"{n} data rows: a cycle table needs {MIN_ROWS} or more")
+    percent = increasing(path, "the percent-of-cycle column", table.percent)
+    lo, hi = COVERAGE
+    if percent[0] < 0 or percent[-1] > 100 or percent[0] > lo or percent[-1] < hi:
+        raise DataFileError(path, f"the percent-of-cycle column runs {percent[0]:g}-"
+                            f"{percent[-1]:g}, not over 0-100 % of a cycle")  # fmt: skip
+    if table.names and (np.ptp(table.mean, axis=0) == 0).all():
+        raise DataFileError(path, "every column is constant over the cycle")
+    return table
+
+
 def read_cycle_table(path: str | PathLike[str]) -> CycleTable:
     """Read a cycle-table CSV (wide mean/SD or Winter layout, see the module doc).
 
     Raises:
-        DataFileError: No recognisable header, a row of the wrong length, or a non-number.
+        DataFileError: No recognisable header, a row of the wrong length, a non-number or a
+            non-finite value; or no gait cycle (:func:`_cycle`): too few rows, the percent not
+            increasing over 0-100 %, every column constant.
     """
     path = Path(path)
     try:
@@ -187,8 +210,8 @@ def read_cycle_table(path: str | PathLike[str]) -> CycleTable:
     rows = [(n, c) for n, c in rows if any(c)] or [(1, [])]
     first = rows[0][1]
     if first and first[0].lower() in _PERCENT_NAMES:
-        return _read_wide(path, rows)
+        return _cycle(path, _read_wide(path, rows))
     for k, (_, cells) in enumerate(rows):
         if any(c.lower() in _PERCENT_NAMES for c in cells[:3]):
-            return _read_winter(path, rows, k)
+            return _cycle(path, _read_winter(path, rows, k))
     raise DataFileError(path, "no percent-of-cycle header row found", rows[0][0])

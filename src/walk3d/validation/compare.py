@@ -89,11 +89,13 @@ def _pearson(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def r_squared(p: np.ndarray, m: np.ndarray) -> float:
-    """``1 − Σ(p − m)² / Σ(m − m̄)²`` over samples where both are finite (NaN if none vary)."""
+    """``1 − Σ(p − m)² / Σ(m − m̄)²`` over samples where both are finite (NaN if ``m`` does not
+    vary beyond rounding: a constant reference explains nothing)."""
     p, m = np.asarray(p, float), np.asarray(m, float)
     ok = np.isfinite(p) & np.isfinite(m)
     ss = float(np.sum((m[ok] - m[ok].mean()) ** 2)) if ok.sum() > 2 else 0.0
-    return 1.0 - float(np.sum((p[ok] - m[ok]) ** 2)) / ss if ss > 0 else float("nan")
+    varies = ss > 1e-20 * float(np.sum(m[ok] ** 2))
+    return 1.0 - float(np.sum((p[ok] - m[ok]) ** 2)) / ss if ss > 0 and varies else float("nan")
 
 
 def cycle_timing(pred: Prediction) -> tuple[float, float]:
