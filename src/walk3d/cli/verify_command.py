@@ -42,13 +42,17 @@ def verify(
     pelvis residual forces as % of body weight) and measure the stance foot's drift during
     foot-flat on model.osim. Exit code 0 within issue 26's bars (r >= 0.99, RMSE <= 2 % of
     peak, residual forces <= 2 % of body weight at every sample, drift < 5 mm), 1 outside
-    them, 2 for bad input or without OpenSim (pip install 'walk3d[opensim]')."""
+    them, 2 for bad input or without OpenSim (pip install 'walk3d\\[opensim]')."""
     import subprocess
 
     from walk3d.io.errors import DataFileError
     from walk3d.verify.compare import BARS
-    from walk3d.verify.run import OpenSimMissing, verify_folder
+    from walk3d.verify.run import OpenSimMissing, check_timeout, verify_folder
 
+    try:
+        check_timeout(timeout)
+    except ValueError:
+        fail(f"--timeout must be a finite number of seconds, got {timeout}")
     try:
         with console.status("walk3d: running OpenSim"):
             v = verify_folder(pred_dir, timeout=timeout)

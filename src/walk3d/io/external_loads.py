@@ -34,6 +34,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from walk3d.io._atomic import atomic_write_text
+from walk3d.io.checks import read_xml
 from walk3d.io.errors import DataFileError
 from walk3d.io.storage import Storage, read_storage, write_storage
 
@@ -208,10 +209,7 @@ def read_external_loads_xml(path: str | PathLike[str]) -> tuple[tuple[ExternalFo
         DataFileError: Not well-formed XML, or no ``ExternalLoads`` element.
     """
     path = Path(path)
-    try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        raise DataFileError(path, f"invalid XML: {exc.msg}", exc.position[0]) from None
+    root = read_xml(path).getroot()
     loads = root if root.tag == "ExternalLoads" else root.find(".//ExternalLoads")
     if loads is None:
         raise DataFileError(path, "no <ExternalLoads> element")

@@ -168,8 +168,9 @@ def _header_int(
     return None
 
 
-def read_storage(path: str | PathLike[str]) -> Storage:
-    """Read an OpenSim ``.mot``/``.sto`` file.
+def read_storage(path: str | PathLike[str], finite: bool = False) -> Storage:
+    """Read an OpenSim ``.mot``/``.sto`` file; with ``finite``, every column must be free of
+    NaN and infinite values (else :meth:`Storage.column`'s one line naming the column).
 
     Raises:
         FileNotFoundError: The file does not exist.
@@ -262,7 +263,7 @@ def read_storage(path: str | PathLike[str]) -> Storage:
     if bad_time.size:
         raise DataFileError(path, f"time holds {values[bad_time[0], 0]} in data row "
                             f"{int(bad_time[0]) + 1}", None)  # fmt: skip
-    return Storage(
+    storage = Storage(
         name=name,
         time=values[:, 0],
         columns=tuple(labels[1:]),
@@ -271,6 +272,9 @@ def read_storage(path: str | PathLike[str]) -> Storage:
         header=header,
         path=path,
     )
+    for column in storage.columns if finite else ():
+        storage.column(column)
+    return storage
 
 
 _LABEL_OK = re.compile(r"^\S+$")

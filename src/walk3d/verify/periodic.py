@@ -10,12 +10,14 @@ only the cycle's own samples.
 
 from __future__ import annotations
 
-import xml.etree.ElementTree as ET
 from os import PathLike
 from pathlib import Path
 
 import numpy as np
 
+from walk3d.io.checks import read_xml
+from walk3d.io.errors import DataFileError
+from walk3d.io.external_loads import read_external_loads_xml
 from walk3d.io.storage import Storage, read_storage, write_storage
 
 __all__ = ["PAD_SAMPLES", "periodic_records", "extend_cycle"]
@@ -52,20 +54,21 @@ def periodic_records(
     """``(motion, external loads)`` in ``folder``: copies of a prediction's ``motion.mot`` and
     ``grf.xml`` (with its data file) extended periodically (module doc)."""
     folder = Path(folder)
-    mot = read_storage(motion)
-    pelvis_x = mot.data[:, mot.columns.index("pelvis_tx")]
+    mot = read_storage(motion, finite=True)
+    pelvis_x = mot.column("pelvis_tx")
     stride = float(pelvis_x[-1] - pelvis_x[0])
     ext = extend_cycle(mot, ("pelvis_tx",), stride, pad)
     motion_out = write_storage(folder / "motion.mot", ext.time, ext.columns, ext.data,
                                in_degrees=bool(mot.in_degrees))  # fmt: skip
-    tree = ET.parse(external_loads)
+    read_external_loads_xml(external_loads)  # an ExternalLoads file, or one line
+    tree = read_xml(external_loads)
     datafile = tree.getroot().find(".//datafile")
     if datafile is None or not (datafile.text or "").strip():
-        raise ValueError(f"{external_loads}: no <datafile>")
+        raise DataFileError(external_loads, "no <datafile>")
     source = Path(datafile.text.strip())
     if not source.is_absolute():
         source = Path(external_loads).resolve().parent / source
-    grf = read_storage(source)
+    grf = read_storage(source, finite=True)
     x_points = tuple(c for c in grf.columns if c.endswith("_px"))
     ext = extend_cycle(grf, x_points, stride, pad)
     grf_out = write_storage(folder / "grf.mot", ext.time, ext.columns, ext.data, name=grf.name)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import math
 import os
 import subprocess
 import sys
@@ -46,6 +47,7 @@ from walk3d.verify.periodic import periodic_records
 
 __all__ = [
     "OpenSimMissing",
+    "check_timeout",
     "Verification",
     "contact_point",
     "opensim_available",
@@ -61,6 +63,13 @@ class OpenSimMissing(RuntimeError):
 
     def __init__(self) -> None:
         super().__init__(f"OpenSim's Python package is not installed: {INSTALL_HINT}")
+
+
+def check_timeout(timeout: float) -> float:
+    """``timeout`` (s) if it is a finite positive number, else a one-line ValueError."""
+    if not (isinstance(timeout, (int, float)) and 0 < timeout < math.inf):
+        raise ValueError(f"the timeout must be a finite positive number of seconds, got {timeout}")
+    return float(timeout)
 
 
 def opensim_available() -> bool:
@@ -140,6 +149,7 @@ def verify_prediction(
     """Check ``pred`` with OpenSim on these files (see the module doc)."""
     from walk3d.verify.worker import ID_FILE, POINTS_FILE
 
+    check_timeout(timeout)
     feet = {"right": ("calcn_r", "foot_r", "r"), "left": ("calcn_l", "foot_l", "l")}
     points = {k: (b, contact_point(body, s).tolist()) for k, (b, _, s) in feet.items()}
     with tempfile.TemporaryDirectory(prefix="walk3d-verify-") as tmp:
@@ -159,7 +169,7 @@ def verify_prediction(
         theirs = read_storage(work / ID_FILE)
         with np.load(work / POINTS_FILE) as data:
             replayed = {k: data[k] for k in feet}
-    ours = read_storage(inverse_dynamics)
+    ours = read_storage(inverse_dynamics, finite=True)
     t = ours.time
     if theirs.time.size < 2 or theirs.time[0] > t[0] + 1e-6 or theirs.time[-1] < t[-1] - 1e-6:
         raise ValueError("OpenSim's inverse dynamics does not cover the motion's time range")
@@ -201,6 +211,7 @@ def verify_folder(folder: str | PathLike[str], *, timeout: float = 300.0) -> Ver
     from walk3d.results.osim_model import motion_extent, osim_model, prediction_body
     from walk3d.results.prediction import load_result
 
+    check_timeout(timeout)
     out = Path(folder)
     pred = load_result(out)
     if not opensim_available():
