@@ -31,8 +31,8 @@ def report(
     split, joint angles, moments and ground reactions over measured normative bands, and the
     animation if DIR has one; for a campaign, its starts, the five best and the best
     prediction. Written atomically; a page written into a prediction folder is listed in its
-    manifest. Exit code 2 for a folder of neither kind or a bad option, 3 if it cannot be
-    written."""
+    manifest. Exit code 2 for a folder of neither kind, a bad option or a --data folder whose
+    tables are malformed or hold NaN or infinite values; 3 if it cannot be written."""
     from walk3d.report.norms import SOURCES, find_data, load_norms
     from walk3d.report.writer import build_report, save_report
 
@@ -47,7 +47,10 @@ def report(
     if data is not None and found is None:
         names = ", ".join(rel for rel, _ in SOURCES)
         fail(f"--data {data} holds none of {names}")
-    norms = load_norms(found)
+    try:
+        norms = load_norms(found, strict=data is not None)
+    except (OSError, ValueError) as exc:
+        fail(f"--data {data}: {' '.join(str(exc).split())}")
     try:
         with console.status("walk3d: writing the report"):
             kind, page = build_report(folder, norms)

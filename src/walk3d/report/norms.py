@@ -25,7 +25,7 @@ import numpy as np
 
 from walk3d.io.cycle_table import read_cycle_table
 from walk3d.io.errors import DataFileError
-from walk3d.validation.reference import N_PERCENT, Reference, reference_from_table
+from walk3d.validation.reference import Reference, reference_from_table
 
 __all__ = ["DATA_ENV", "SOURCES", "Band", "Norms", "data_candidates", "find_data", "load_norms"]
 
@@ -105,9 +105,10 @@ def _band(key: str, refs: list[tuple[str, Reference]]) -> Band | None:
     return Band(means.min(axis=0), means.max(axis=0), None, f"min–max of {len(have)} means")
 
 
-def load_norms(folder: str | PathLike[str] | None) -> Norms:
-    """Read the sources present in ``folder`` (module doc); an unreadable one is skipped with a
-    note, so that a report never fails on the measured data."""
+def load_norms(folder: str | PathLike[str] | None, strict: bool = False) -> Norms:
+    """Read the sources present in ``folder`` (module doc). An unreadable one (malformed, NaN
+    or infinite values, no gait cycle) is skipped with a note, so that a report never fails on
+    data it found by itself; with ``strict`` (a folder the user named) it raises ValueError."""
     if folder is None:
         return Norms(None, {}, (), ("no measured data folder found",))
     root = Path(folder)
@@ -118,11 +119,16 @@ def load_norms(folder: str | PathLike[str] | None) -> Norms:
             continue
         try:
             ref = reference_from_table(read_cycle_table(path), name=description)
+            if not ref.mean:
+                raise DataFileError(path, "no column of a quantity the report shows")
         except (OSError, DataFileError, ValueError, KeyError) as exc:
+            if strict and isinstance(exc, DataFileError):
+                raise
+            if strict:
+                raise DataFileError(path, str(exc)) from None
             notes.append(f"{rel} skipped: {' '.join(str(exc).split())}")
             continue
-        if all(v.size == N_PERCENT for v in ref.mean.values()):
-            refs.append((description, ref))
+        refs.append((description, ref))
     keys = {k for _, r in refs for k in r.mean}
     bands = {k: b for k in sorted(keys) if (b := _band(k, refs)) is not None}
     return Norms(root, bands, tuple(d for d, _ in refs), tuple(notes))
