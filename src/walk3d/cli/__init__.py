@@ -26,7 +26,14 @@ from walk3d.cli import (  # noqa: F401  (register the commands)
     validation,
     verify_command,
 )
-from walk3d.cli.common import app, err_console, fail
+from walk3d.cli.common import EXIT_WRITE, app, err_console, fail
+from walk3d.cli.stdout import (
+    CLOSED_PIPE_EXIT,
+    GuardedStdout,
+    OutputClosed,
+    OutputFailed,
+    silence_stdout,
+)
 
 __all__ = ["app", "fail", "main"]
 
@@ -45,9 +52,8 @@ def _interrupted() -> None:
     os._exit(130)
 
 
-def main(argv: list[str] | None = None) -> None:
-    """Console-script entry point: usage errors become one line and exit code 2."""
-    args = list(sys.argv[1:] if argv is None else argv) or ["--help"]
+def _run(args: list[str]) -> None:
+    """Run the command line on ``args``; always ends in SystemExit (or ``os._exit``)."""
     command = typer.main.get_command(app)
     try:
         rv = command.main(args=args, prog_name="walk3d", standalone_mode=False)
@@ -67,3 +73,28 @@ def main(argv: list[str] | None = None) -> None:
     if rv == 130:  # Typer returns Ctrl-C's exit code itself when not in standalone mode
         _interrupted()
     sys.exit(rv if isinstance(rv, int) else 0)
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Console-script entry point: usage errors become one line and exit code 2; output that
+    cannot be written (disk full) one line and exit code 3; a closed pipe
+    (``walk3d body | head -1``) a quiet exit with code 141, as a tool ended by SIGPIPE."""
+    args = list(sys.argv[1:] if argv is None else argv) or ["--help"]
+    stream = sys.stdout
+    sys.stdout = GuardedStdout(stream)
+    try:
+        try:
+            _run(args)
+        except SystemExit as exc:
+            code = exc.code
+        sys.stdout.flush()
+    except OutputClosed:
+        silence_stdout(stream)
+        code = CLOSED_PIPE_EXIT
+    except OutputFailed as exc:
+        silence_stdout(stream)
+        sys.stderr.write(f"walk3d: error: cannot write the output: {str(exc).lower()}\n")
+        code = EXIT_WRITE
+    finally:
+        sys.stdout = stream
+    sys.exit(code)

@@ -1,0 +1,53 @@
+"""Standard output that cannot be written: /dev/full is one line and exit code 3, a closed pipe
+(``walk3d body | head -1``) a quiet exit with code 141; never a traceback."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+needs_dev_full = pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")
+
+
+def _env() -> dict[str, str]:
+    path = os.pathsep.join([str(REPO / "src"), os.environ.get("PYTHONPATH", "")])
+    return dict(os.environ, PYTHONPATH=path)
+
+
+def _walk3d(*args: str, stdout) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "walk3d.cli", *args], stdout=stdout,
+                          stderr=subprocess.PIPE, text=True, timeout=120, env=_env())  # fmt: skip
+
+
+@needs_dev_full
+@pytest.mark.parametrize("args", [("body", "--json"), ("body",)])
+def test_a_full_disk_is_one_line_and_exit_3(args):
+    with open("/dev/full", "w") as full:
+        r = _walk3d(*args, stdout=full)
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode == 3 and len(lines) == 1, r.stderr
+    assert lines[0] == "walk3d: error: cannot write the output: no space left on device"
+
+
+def test_a_closed_pipe_is_a_quiet_exit_141():
+    """The reader end is closed before walk3d writes, as ``head -1`` does after a line."""
+    read, write = os.pipe()
+    os.close(read)
+    try:
+        r = _walk3d("body", stdout=write)
+    finally:
+        os.close(write)
+    assert r.returncode == 141 and r.stderr == "", r.stderr
+
+
+def test_a_writable_output_is_exit_0(tmp_path):
+    """Negative control: the same command into a file."""
+    with open(tmp_path / "out.json", "w") as f:
+        r = _walk3d("body", "--json", stdout=f)
+    assert r.returncode == 0 and r.stderr == ""
+    assert (tmp_path / "out.json").read_text().startswith("{")
