@@ -72,20 +72,21 @@ def build(
 @atlas_app.command("show")
 def show() -> None:
     """List the package's atlas files: sex, preset, speeds, solve revision and whether this
-    walk3d can use them."""
+    walk3d can use them; a file that is not an atlas (damaged, stray) is flagged in its row."""
     from rich.table import Table
 
-    from walk3d.solve.atlas import ATLAS_DIR, load_atlas
+    from walk3d.solve.atlas import ATLAS_DIR, read_atlas
 
     t = Table(title=f"walk3d atlas ({ATLAS_DIR})")
     for col in ("sex", "preset", "speeds m/s", "entries", "revision", "usable"):
         t.add_column(col)
     for path in sorted(ATLAS_DIR.glob("*.json")):
-        sex, preset = path.stem.split("-", 1)
+        sex, _, preset = path.stem.partition("-")
         try:
-            a = load_atlas(sex, preset)
-        except (ValueError, KeyError, OSError) as exc:  # another format, or damaged
-            t.add_row(sex, preset, "-", "-", "-", f"no: rebuild ({exc})")
+            a = read_atlas(path)
+        except (ValueError, OSError) as exc:  # another format, damaged, or a stray file
+            why = " ".join(str(exc).split())
+            t.add_row(sex, preset or "-", "-", "-", "-", f"no: not a usable atlas ({why})")
             continue
         t.add_row(sex, preset, f"{a.speeds[0]:.2f}-{a.speeds[-1]:.2f}", str(len(a.speeds)),
                   str(a.solve_revision), "yes" if a.current else "no: rebuild")  # fmt: skip

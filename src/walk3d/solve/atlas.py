@@ -16,19 +16,20 @@ revision, or for other model or grid settings, is never used: no start, and the 
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
 import numpy as np
 
+from walk3d.io.checks import finite_number, increasing, read_json_object, require_finite
+from walk3d.io.errors import DataFileError
 from walk3d.problem import descriptors, layout, terms
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.revision import SOLVE_REVISION
 
 __all__ = ["ATLAS_DIR", "FORMAT", "Atlas", "AtlasStart", "atlas_path", "candidates",
-           "load_atlas", "settings_key", "start_for"]  # fmt: skip
+           "load_atlas", "read_atlas", "settings_key", "start_for"]  # fmt: skip
 
 ATLAS_DIR = Path(__file__).resolve().parent / "atlas_data"
 """Where the package's atlas files are (package data)."""
@@ -105,18 +106,38 @@ def atlas_path(sex: str, preset: str, root: Path | None = None) -> Path:
 
 @cache
 def _read(path: Path, mtime_ns: int) -> Atlas:
-    data = json.loads(path.read_text())
+    return read_atlas(path)
+
+
+def read_atlas(path: Path) -> Atlas:
+    """One atlas file, checked: its format, and every entry's finite speed, period, double
+    support and :data:`walk3d.problem.layout.N_X` coefficients, speeds distinct.
+
+    Raises:
+        DataFileError: malformed or of another format (a ValueError).
+    """
+    data = read_json_object(path, "walk3d atlas file")
     if data.get("format") != FORMAT:
-        raise ValueError(f"{path}: atlas format {data.get('format')}, expected {FORMAT}")
-    entries = sorted(data["entries"], key=lambda e: e["speed"])
-    x = np.array([e["x"] for e in entries], dtype=float)
+        raise DataFileError(path, f"atlas format {data.get('format')!r:.20}, expected {FORMAT}")
+    entries, settings = data.get("entries"), data.get("settings")
+    if not isinstance(entries, list) or not entries or not all(isinstance(e, dict)
+                                                              for e in entries):  # fmt: skip
+        raise DataFileError(path, "no list of atlas entries")
+    if not (isinstance(data.get("sex"), str) and isinstance(data.get("preset"), str)
+            and isinstance(settings, dict) and isinstance(data.get("solve_revision"), int)
+            and isinstance(data.get("fingerprint", {}), dict)):  # fmt: skip
+        raise DataFileError(path, "sex, preset, settings or solve_revision missing or malformed")
+    cols = {k: [finite_number(path, e.get(k), f"entry {i}'s {k}") for i, e in enumerate(entries)]
+            for k in ("speed", "period", "double_support")}  # fmt: skip
+    order = np.argsort(cols["speed"], kind="stable")
+    speeds = increasing(path, "the entries' speeds", np.asarray(cols["speed"])[order])
+    x = require_finite(path, "the entries' coefficients", [entries[i].get("x") for i in order])
     if x.ndim != 2 or x.shape[1] != layout.N_X:
-        raise ValueError(f"{path}: entries must hold {layout.N_X} coefficients")
+        raise DataFileError(path, f"entries must hold {layout.N_X} coefficients")
     return Atlas(
-        sex=data["sex"], preset=data["preset"], solve_revision=int(data["solve_revision"]),
-        settings=data["settings"], speeds=np.array([e["speed"] for e in entries]),
-        periods=np.array([e["period"] for e in entries]),
-        double_supports=np.array([e["double_support"] for e in entries]), x=x,
+        sex=data["sex"], preset=data["preset"], solve_revision=data["solve_revision"],
+        settings=settings, speeds=speeds, periods=np.asarray(cols["period"])[order],
+        double_supports=np.asarray(cols["double_support"])[order], x=x,
         fingerprint=data.get("fingerprint", {}), path=path,
     )  # fmt: skip
 

@@ -1,0 +1,41 @@
+"""walk3d atlas show on a folder with a stray or damaged file: the file is flagged in its row,
+the other files are listed, exit code 0 and no traceback."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+
+import walk3d.solve.atlas as atlas_module
+from walk3d.cli import main
+
+
+@pytest.mark.parametrize("junk", [b"not json", b"[1, 2]", b'{"format": 3, "entries": [{}]}'])
+def test_a_stray_json_file_is_flagged(tmp_path, monkeypatch, capsys, junk):
+    shutil.copy(atlas_module.ATLAS_DIR / "male-natural.json", tmp_path / "male-natural.json")
+    (tmp_path / "junk.json").write_bytes(junk)
+    monkeypatch.setattr(atlas_module, "ATLAS_DIR", tmp_path)
+    monkeypatch.setenv("COLUMNS", "250")
+    with pytest.raises(SystemExit) as info:
+        main(["atlas", "show"])
+    out, err = capsys.readouterr()
+    assert info.value.code == 0 and err == "", err
+    rows = {line.split("│")[1].strip(): line for line in out.splitlines() if "│" in line}
+    assert "not a usable atlas" in rows["junk"] and "junk.json" in rows["junk"]
+    assert "yes" in rows["male"]  # the control: the real file is listed as usable
+
+
+def test_read_atlas_refuses_a_damaged_entry(tmp_path):
+    import json
+
+    data = json.loads((atlas_module.ATLAS_DIR / "male-natural.json").read_text())
+    data["entries"][1]["period"] = float("nan")
+    (tmp_path / "male-natural.json").write_text(json.dumps(data))
+    with pytest.raises(ValueError, match="entry 1's period must be a finite number"):
+        atlas_module.read_atlas(tmp_path / "male-natural.json")
+    data["entries"][1]["period"] = 1.0
+    data["entries"][2]["speed"] = data["entries"][1]["speed"]
+    (tmp_path / "male-natural.json").write_text(json.dumps(data))
+    with pytest.raises(ValueError, match="speeds is not increasing"):
+        atlas_module.read_atlas(tmp_path / "male-natural.json")
