@@ -31,7 +31,10 @@ def test_speed_ranges_include_their_stop():
     ("text", "word"),
     [("1.8:0.8:0.1", "empty or reversed"), ("1:2:0", "empty or reversed"),
      ("0:1:0.5", "(0, 4]"), ("3:5:1", "(0, 4]"), ("fast", "expected start:stop:step"),
-     ("1:2", "expected start:stop:step"), ("", "no speed"), ("1,1", "distinct")],
+     ("1:2", "expected start:stop:step"), ("", "no speed"), ("1,1", "1 m/s is given twice"),
+     ("1.0,1.2,1.0", "given twice"), ("1.2,1.2004", "closer than 0.001 m/s"),
+     ("0.1:4:1e-10", "3.9e+10 speeds, at most 41"), ("1:3:0.048", "42 speeds, at most 41"),
+     ("0.5:4:1e-300", "speeds, at most 41"), (",".join(["1.0"] * 50), "50 speeds")],
 )  # fmt: skip
 def test_bad_speed_ranges_are_refused(text, word):
     with pytest.raises(ValueError, match="--speeds") as info:
@@ -39,7 +42,7 @@ def test_bad_speed_ranges_are_refused(text, word):
     assert word in str(info.value)
 
 
-@pytest.mark.parametrize("text", ["1.8:0.8:0.1", "0:1:0.5", "1,nan", "x"])
+@pytest.mark.parametrize("text", ["1.8:0.8:0.1", "0:1:0.5", "1,nan", "x", "0.1:4:1e-10", "1.0,1.0"])
 def test_cli_refuses_a_bad_range_with_one_line_and_exit_2(tmp_path, text):
     cmd = [sys.executable, "-m", "walk3d.cli", "sweep", "--speeds", text, "--out",
            str(tmp_path / "s")]  # fmt: skip
@@ -47,6 +50,13 @@ def test_cli_refuses_a_bad_range_with_one_line_and_exit_2(tmp_path, text):
     assert r.returncode == 2 and "Traceback" not in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1 and "--speeds" in r.stderr
     assert not (tmp_path / "s").exists()
+
+
+def test_the_largest_ranges_and_the_nearest_speeds_allowed_pass():
+    """Negative control of the count and folder checks: 41 speeds, 0.001 m/s apart."""
+    assert parse_speeds("1:3:0.05").size == 41 and parse_speeds("1:3:0.0499").size == 41
+    assert parse_speeds("1.2,1.201").tolist() == [1.2, 1.201]
+    assert parse_speeds(",".join(f"{v / 10:.1f}" for v in range(6, 21))).size == 15
 
 
 def test_order_starts_near_the_pivot_and_each_speed_follows_a_solved_neighbour():

@@ -4,9 +4,10 @@ predicted, each started from its solved neighbour.
 The folder:
 
 * ``sweep.json``: the settings (speed aside) and the speeds; a rerun with other settings is
-  refused, a rerun with the same ones resumes;
+  refused, a rerun with the same ones resumes (:mod:`walk3d.campaign.sweep_folder` checks the
+  folder first);
 * ``speeds/v_<speed>/``: one ``walk3d predict`` folder per speed, written atomically, so a speed
-  is either finished or absent;
+  is either finished or absent; a resumed one must be of the speed and problem asked for;
 * ``sweep.csv``: one row per speed (:data:`COLUMNS`), and ``sweep.png``
   (:func:`walk3d.plots.sweep.sweep_figure`);
 * ``second_pass.json``: the second pass's tries (:func:`_second_pass`).
@@ -33,6 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
+from walk3d.campaign.sweep_folder import SweepMismatch, check_folder, speed_folder, stored
 from walk3d.io._atomic import atomic_write_text
 from walk3d.problem import descriptors, terms
 from walk3d.problem.settings import PredictionSettings
@@ -60,13 +62,11 @@ in between (``;``-separated), whose iterations and time are not in ``iterations`
 ``wall_time_s``."""
 
 
-class SweepMismatch(ValueError):
-    """The folder holds a sweep with other settings."""
-
-
 def parse_speeds(text: str) -> np.ndarray:
     """``start:stop:step`` (stop included) or a comma list, m/s; ValueError for a range that is
-    empty, reversed, or outside (0, 4] m/s."""
+    empty, reversed, outside (0, 4] m/s or of more than :data:`MAX_SPEEDS` speeds (counted
+    before any array is made), and for a speed given twice or within 0.001 m/s of another
+    (each speed has its own folder, :func:`speed_folder`)."""
     try:
         if ":" in text:
             parts = [float(p) for p in text.split(":")]
@@ -76,8 +76,13 @@ def parse_speeds(text: str) -> np.ndarray:
             if not all(map(math.isfinite, parts)) or step <= 0 or b < a:
                 raise ValueError(f"--speeds {text}: the range is empty or reversed "
                                  "(start:stop:step with start <= stop and step > 0)")  # fmt: skip
-            n = int(math.floor((b - a) / step + 1e-9)) + 1
-            speeds = np.round(a + step * np.arange(n), 6)
+            q = (b - a) / step + 1e-9  # the count first: 0.1:4:1e-10 would need 291 GiB
+            if not q < MAX_SPEEDS:
+                many = f"{math.floor(q) + 1:.3g}" if math.isfinite(q) else "countless"
+                raise ValueError(f"--speeds {text}: {many} speeds, at most {MAX_SPEEDS} "
+                                 "(a larger step)")  # fmt: skip
+            speeds = a + step * np.arange(math.floor(q) + 1)
+            speeds = np.round(speeds, 6) if np.all(speeds <= 4.0) else speeds
         else:
             speeds = np.array([float(p) for p in text.split(",") if p.strip()])
     except ValueError as exc:
@@ -87,9 +92,16 @@ def parse_speeds(text: str) -> np.ndarray:
         raise ValueError(f"--speeds {text}: no speed")
     if not np.all((speeds > 0) & (speeds <= 4.0)):
         raise ValueError(f"--speeds {text}: every speed must be in (0, 4] m/s")
-    if speeds.size > MAX_SPEEDS or np.unique(speeds).size != speeds.size:
-        raise ValueError(f"--speeds {text}: at most {MAX_SPEEDS} distinct speeds")
-    return np.sort(speeds)
+    if speeds.size > MAX_SPEEDS:
+        raise ValueError(f"--speeds {text}: {speeds.size} speeds, at most {MAX_SPEEDS}")
+    speeds = np.sort(speeds)
+    for u, v in zip(speeds[:-1], speeds[1:], strict=True):
+        if u == v:
+            raise ValueError(f"--speeds {text}: {u:g} m/s is given twice (each speed once)")
+        if f"{u:.3f}" == f"{v:.3f}":
+            raise ValueError(f"--speeds {text}: {u:g} and {v:g} m/s are closer than 0.001 m/s, "
+                             "which would share a folder")  # fmt: skip
+    return speeds
 
 
 def sweep_order(speeds: np.ndarray) -> list[tuple[int, int | None]]:
@@ -106,27 +118,6 @@ def sweep_order(speeds: np.ndarray) -> list[tuple[int, int | None]]:
             order.append((lo, lo + 1))
             lo -= 1
     return order
-
-
-def speed_folder(out: Path, speed: float) -> Path:
-    return out / "speeds" / f"v_{speed:.3f}"
-
-
-def _check_folder(out: Path, settings: PredictionSettings) -> None:
-    """Write ``sweep.json``, or refuse a folder whose sweep has other settings."""
-    key = settings.model_dump(mode="json")
-    key["gait"].pop("speed")
-    for name in ("period", "double_support"):  # first guesses, per speed
-        key["gait"].pop(name)
-    path = out / "sweep.json"
-    if path.is_file():
-        stored = json.loads(path.read_text())
-        if stored.get("settings") != key:
-            raise SweepMismatch(f"{out} holds a sweep with other settings; use a new folder "
-                                "or the same options")  # fmt: skip
-        return
-    out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(path, json.dumps({"settings": key}, indent=1) + "\n")
 
 
 def _at_speed(settings: PredictionSettings, speed: float, guess: tuple[float, float] | None):
@@ -192,7 +183,11 @@ def _second_pass(settings, speeds, out, summaries, first_from, seed, solver, on_
     from walk3d.solve.solver import forget_solvers
 
     path = out / "second_pass.json"
-    done = json.loads(path.read_text()) if path.is_file() else {}
+    try:  # a damaged record only means that the tries are made again
+        done = json.loads(path.read_text(encoding="utf-8")) if path.is_file() else {}
+    except (OSError, ValueError):
+        done = {}
+    done = done if isinstance(done, dict) else {}
     crit = settings.model.criterion
     for i, v in enumerate(map(float, speeds)):
         others = [nb for nb in (i - 1, i + 1) if 0 <= nb < len(speeds) and nb != first_from[i]]
@@ -271,21 +266,19 @@ def run_sweep(
     """Predict at each speed (module doc) and write the folder; ``on_progress(message, done,
     total)`` after each speed and ``(message, done, total)`` with solver messages meanwhile."""
     from walk3d.pipeline import predict, write_result
-    from walk3d.results.prediction import load_result
     from walk3d.solve.solver import forget_solvers
 
     t0 = time.perf_counter()
-    out = Path(out)
-    _check_folder(out, settings)
+    out, criterion = Path(out), settings.model.criterion
+    check_folder(out, settings)
     report = SweepReport()
-    summaries: dict[int, dict] = {}
+    summaries = stored(out, settings, speeds, lambda s: (table_row(s, criterion), walks(s)))
+    report.skipped = len(summaries)
     order = sweep_order(speeds)
     for done, (i, nb) in enumerate(order):
         v = float(speeds[i])
         folder = speed_folder(out, v)
-        if (folder / "summary.json").is_file():
-            summaries[i] = load_result(folder).summary
-            report.skipped += 1
+        if i in summaries:
             continue
 
         def note(msg: str, v=v, done=done) -> None:

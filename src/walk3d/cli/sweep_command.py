@@ -21,6 +21,7 @@ from walk3d.cli.common import (
     console,
     fail,
     settings_from_options,
+    warned,
 )
 from walk3d.problem.terms import DEFAULT_PRESET
 
@@ -43,9 +44,10 @@ def sweep(
     """Predict one gait cycle at each speed with T and Td predicted, each started from its
     solved neighbour, and write DIR/sweep.csv (T, Td, stride length, cadence, criterion, gait
     checks), DIR/sweep.png (against published adult relations) and one predict folder per speed
-    in DIR/speeds/. Rerunning the same command resumes. Exit code 0 if every speed converged
-    and walks, 1 if not, 2 for bad input, 3 if the folder could not be written, 130 on
-    Ctrl-C (finished speeds are kept)."""
+    in DIR/speeds/. Rerunning the same command resumes: a speed folder that cannot be read is
+    solved again, one holding another speed's or problem's prediction is refused. Exit code 0
+    if every speed converged and walks, 1 if not, 2 for bad input, 3 if the folder could not
+    be written, 130 on Ctrl-C (finished speeds are kept)."""
     from walk3d.campaign.sweep import SweepMismatch, parse_speeds, run_sweep
     from walk3d.problem.descriptors import first_guess
     from walk3d.problem.settings import available_cores
@@ -72,7 +74,7 @@ def sweep(
             def progress(message: str, done: int, total: int) -> None:
                 bar.update(task, completed=done, description=f"walk3d sweep: {message}"[:80])
 
-            report = run_sweep(settings, values, out, seed=seed, on_progress=progress)
+            report = warned(run_sweep, settings, values, out, seed=seed, on_progress=progress)
     except SweepMismatch as exc:
         fail(str(exc))
     except OSError as exc:

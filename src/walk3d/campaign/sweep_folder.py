@@ -1,0 +1,118 @@
+"""A ``walk3d sweep`` folder on resume: ``sweep.json`` and the finished speeds are checked
+before any solve (:mod:`walk3d.campaign.sweep` has the layout).
+
+* ``sweep.json`` that cannot be read, is not a sweep's, or holds other settings: refused
+  (:class:`SweepMismatch`, one line and exit code 2 in the CLI);
+* a speed folder that is damaged (incomplete, or a summary that cannot be read): solved again,
+  with a warning. walk3d writes each speed atomically, so such a folder holds no usable work;
+* a speed folder holding a readable prediction of another problem (another speed, subject or
+  criterion...): refused, not replaced, since it may be someone's result put there by mistake.
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from walk3d.io._atomic import atomic_write_text
+from walk3d.problem.settings import ModelSettings, PredictionSettings, recorded_settings
+
+__all__ = ["PROBLEM_FIELDS", "SweepMismatch", "check_folder", "difference", "speed_folder",
+           "stored"]  # fmt: skip
+
+
+class SweepMismatch(ValueError):
+    """The folder holds a sweep with other settings, a ``sweep.json`` that is not a sweep's,
+    or a speed folder with another problem's prediction."""
+
+
+def speed_folder(out: Path, speed: float) -> Path:
+    """The folder of one speed (m/s), named to 0.001 m/s."""
+    return out / "speeds" / f"v_{speed:.3f}"
+
+
+def _sweep_key(settings: dict) -> dict:
+    """``sweep.json``'s settings less ``solver.threads``, which does not change the iterates:
+    a sweep resumes on a computer with another number of cores."""
+    return {g: {k: v for k, v in (values.items() if isinstance(values, dict) else ())
+                if (g, k) != ("solver", "threads")} for g, values in settings.items()}  # fmt: skip
+
+
+def check_folder(out: Path, settings: PredictionSettings) -> None:
+    """Write ``sweep.json``, or refuse (:class:`SweepMismatch`) a folder whose ``sweep.json``
+    cannot be read, is not a sweep's or holds other settings."""
+    key = settings.model_dump(mode="json")
+    for name in ("speed", "period", "double_support"):  # per speed (T, Td: first guesses)
+        key["gait"].pop(name)
+    path = out / "sweep.json"
+    if path.is_file():
+        try:
+            stored_ = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:
+            why = " ".join(str(exc).split())
+            raise SweepMismatch(f"{path} cannot be read ({why}); use a new folder") from None
+        if not isinstance(stored_, dict) or not isinstance(stored_.get("settings"), dict):
+            raise SweepMismatch(f"{path} is not a walk3d sweep file; use a new folder")
+        if _sweep_key(stored_["settings"]) != _sweep_key(key):
+            raise SweepMismatch(f"{out} holds a sweep with other settings; use a new folder "
+                                "or the same options")  # fmt: skip
+        return
+    out.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(path, json.dumps({"settings": key}, indent=1) + "\n")
+
+
+PROBLEM_FIELDS = (("gait", "sex"), ("gait", "mass"), ("gait", "height"), ("gait", "free"),
+                  ("solver", "nodes"), ("solver", "heel_strike_nodes"),
+                  *(("model", name) for name in ModelSettings.model_fields))  # fmt: skip
+"""``(group, setting)`` that, with the speed, define the problem a stored speed must have
+solved to be resumed: the subject, the free descriptors, the grid and every model setting."""
+
+
+def difference(summary: dict, settings: PredictionSettings, speed: float) -> str | None:
+    """How a stored prediction's problem differs from the sweep's at ``speed`` (m/s), or None.
+    Its handover may have fallen back to the free landing (:mod:`walk3d.solve.landing`)."""
+    recorded = PredictionSettings(**recorded_settings(summary))
+    got = float(summary["descriptors"]["speed"])
+    if abs(got - speed) > 5e-7:
+        return f"is at {got:g} m/s, not {speed:g} m/s"
+    for group, name in PROBLEM_FIELDS:
+        a = getattr(getattr(recorded, group), name)
+        b = getattr(getattr(settings, group), name)
+        if a != b and not (name == "handover" and b and not a):
+            return f"was solved with {name} {a!r}, not {b!r}"
+    return None
+
+
+def stored(
+    out: Path, settings: PredictionSettings, speeds: np.ndarray, usable: Callable[[dict], object]
+) -> dict[int, dict]:
+    """The summaries of the speeds an earlier run finished, by index into ``speeds`` (module
+    doc: damaged ones are left out with a warning, another problem's raise
+    :class:`SweepMismatch`). ``usable(summary)`` raises KeyError, ValueError or TypeError for
+    a summary the sweep cannot tabulate."""
+    from walk3d.results.prediction import check_complete
+
+    found: dict[int, dict] = {}
+    for i, v in enumerate(map(float, speeds)):
+        folder = speed_folder(out, v)
+        if not folder.exists():
+            continue
+        try:
+            check_complete(folder)
+            summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+            usable(summary)
+            [float(x) for x in summary["coefficients"]["x"]]  # a warm start's coefficients
+            why = difference(summary, settings, v)
+        except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
+            warnings.warn(f"{folder} cannot be read ({' '.join(str(exc).split())}): solving "
+                          f"{v:g} m/s again", RuntimeWarning, stacklevel=2)  # fmt: skip
+            continue
+        if why is not None:
+            raise SweepMismatch(f"{folder} holds a prediction that {why}; remove that folder "
+                                f"to solve {v:g} m/s again, or use a new folder")  # fmt: skip
+        found[i] = summary
+    return found

@@ -1,0 +1,216 @@
+"""walk3d sweep resumed: what a folder holds is checked before any solve. A speed folder with
+another speed's or problem's prediction is refused, a damaged one is solved again, a bad
+sweep.json is one line and exit code 2. The solves are scripted (no optimization)."""
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from walk3d.campaign.sweep import SweepMismatch, run_sweep, speed_folder
+from walk3d.problem import descriptors
+from walk3d.problem.settings import PredictionSettings
+from walk3d.results.prediction import MANIFEST, RESULT_FILES
+
+SPEEDS = np.array([1.2, 1.4])
+SETTINGS = PredictionSettings(speed=1.2, period=1.1, double_support=0.12,
+                              free=descriptors.NAMES, criterion="tor", nodes=8)  # fmt: skip
+
+
+class Fake:
+    def __init__(self, summary):
+        self.summary = summary
+
+
+def fake_summary(settings):
+    """A summary with what the sweep reads, recording ``settings``."""
+    g = settings.gait
+    return {"settings": settings.model_dump(mode="json"),
+            "descriptors": {"speed": g.speed, "period": g.period,
+                            "double_support": g.double_support,
+                            "stride_length": g.speed * g.period, "cadence": 120 / g.period,
+                            "stance_fraction": 0.5 + g.double_support / g.period,
+                            "predicted": list(g.free)},
+            "converged": True, "status": "Solve_Succeeded", "start": "standing",
+            "iterations": 7, "wall_time_s": 1.0, "coefficients": {"x": [g.speed]},
+            "gait_checks": {"looks_like_walking": True}, "objective": {}}  # fmt: skip
+
+
+def write_fake(pred, folder):
+    """A complete result folder (manifest and the files it lists) around ``pred.summary``."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for name in RESULT_FILES:
+        (folder / name).write_text("x\n")
+    (folder / "summary.json").write_text(json.dumps(pred.summary))
+    files = {p.name: p.stat().st_size for p in folder.iterdir() if p.name != MANIFEST}
+    (folder / MANIFEST).write_text(json.dumps({"files": files}))
+    return folder
+
+
+@pytest.fixture
+def solves(monkeypatch):
+    """Scripted solves: each returns a walking summary of the settings it was given and is
+    recorded by speed; the figure is not drawn."""
+    import walk3d.pipeline
+    import walk3d.plots.sweep
+
+    calls = []
+
+    def predict(settings, seed, solver, on_stage=None, warm_from=None):
+        calls.append(settings.gait.speed)
+        return Fake(fake_summary(settings))
+
+    monkeypatch.setattr(walk3d.pipeline, "predict", predict)
+    monkeypatch.setattr(walk3d.pipeline, "write_result", write_fake)
+    monkeypatch.setattr(walk3d.plots.sweep, "sweep_figure", lambda *a, **k: None)
+    return calls
+
+
+def _table(out):
+    with open(out / "sweep.csv") as fh:
+        return [float(r["speed"]) for r in csv.DictReader(fh)]
+
+
+def _place(out, speed, settings):
+    """Replace the folder of ``speed`` by a prediction of ``settings``."""
+    folder = speed_folder(out, speed)
+    for p in folder.iterdir():
+        p.unlink()
+    write_fake(Fake(fake_summary(settings)), folder)
+
+
+def test_a_finished_sweep_resumes_without_solving(tmp_path, solves):
+    out = tmp_path / "s"
+    assert run_sweep(SETTINGS, SPEEDS, out).ran == 2 and set(solves) == {1.2, 1.4}
+    solves.clear()
+    again = run_sweep(SETTINGS, SPEEDS, out)
+    assert (again.ran, again.skipped, solves) == (0, 2, []) and _table(out) == [1.2, 1.4]
+
+
+@pytest.mark.parametrize(
+    ("change", "words"),
+    [({"speed": 1.3806}, "is at 1.3806 m/s, not 1.2 m/s"),
+     ({"sex": "female"}, "was solved with sex 'female', not 'male'"),
+     ({"mass": 80.0}, "was solved with mass 80.0"),
+     ({"height": 1.6}, "was solved with height 1.6"),
+     ({"criterion": "en"}, "was solved with criterion"),
+     ({"nodes": 10}, "was solved with nodes 10, not 8"),
+     ({"free": ()}, "was solved with free ()")],
+)  # fmt: skip
+def test_a_speed_folder_of_another_problem_is_refused_before_any_solve(
+    tmp_path, solves, change, words
+):
+    """A 1.3806 m/s result in speeds/v_1.200 was taken and tabulated as 1.38 m/s where 1.2
+    was asked for; now the sweep refuses it (it may be someone's result) and solves nothing."""
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, SPEEDS, out)
+    _place(out, 1.2, SETTINGS.replace(**change))
+    solves.clear()
+    with pytest.raises(SweepMismatch, match="v_1.200 holds a prediction that") as info:
+        run_sweep(SETTINGS, SPEEDS, out)
+    assert words in str(info.value) and "\n" not in str(info.value)
+    assert solves == [] and _table(out) == [1.2, 1.4]  # nothing solved or rewritten
+
+
+@pytest.mark.parametrize("stored", [{"handover": False}, {"max_iter": 5, "threads": 3}])
+def test_a_speed_folder_of_the_same_problem_is_resumed(tmp_path, solves, stored):
+    """Negative control: the handover's fallback to the free landing, or settings that only
+    change how it was solved, are the same problem."""
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, SPEEDS, out)
+    _place(out, 1.2, SETTINGS.replace(**stored))
+    solves.clear()
+    assert run_sweep(SETTINGS, SPEEDS, out).skipped == 2 and solves == []
+
+
+@pytest.mark.parametrize(
+    "damage",
+    [lambda f: f.write_text(f.read_text()[:40]),  # truncated: the manifest's size is wrong
+     lambda f: f.unlink(),
+     lambda f: (f.parent / MANIFEST).unlink()],
+)  # fmt: skip
+def test_a_damaged_speed_folder_is_solved_again_with_a_warning(tmp_path, solves, damage):
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, SPEEDS, out)
+    damage(speed_folder(out, 1.2) / "summary.json")
+    solves.clear()
+    with pytest.warns(RuntimeWarning, match=r"v_1.200 cannot be read .*solving 1.2 m/s again"):
+        report = run_sweep(SETTINGS, SPEEDS, out)
+    assert (report.ran, report.skipped, solves) == (1, 1, [1.2]) and _table(out) == [1.2, 1.4]
+    again = run_sweep(SETTINGS, SPEEDS, out)  # control: the solved-again folder is whole
+    assert again.skipped == 2
+
+
+def test_a_summary_the_sweep_cannot_tabulate_is_solved_again(tmp_path, solves):
+    """Valid JSON, manifest in order, but not a prediction's summary."""
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, SPEEDS, out)
+    write_fake(Fake([1, 2, 3]), speed_folder(out, 1.2))
+    solves.clear()
+    with pytest.warns(RuntimeWarning, match="v_1.200 cannot be read"):
+        assert run_sweep(SETTINGS, SPEEDS, out).ran == 1 and solves == [1.2]
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [("{garbage", "sweep.json cannot be read"), ("[1,2,3]", "not a walk3d sweep file"),
+     ('{"settings": 3}', "not a walk3d sweep file"), ("", "cannot be read")],
+)  # fmt: skip
+def test_a_bad_sweep_json_is_refused(tmp_path, solves, text, words):
+    out = tmp_path / "s"
+    out.mkdir()
+    (out / "sweep.json").write_text(text)
+    with pytest.raises(SweepMismatch, match=words):
+        run_sweep(SETTINGS, SPEEDS, out)
+    assert solves == []
+
+
+def test_a_damaged_second_pass_record_means_the_tries_are_made_again(tmp_path, solves):
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, np.array([1.2, 1.3, 1.4]), out)
+    (out / "second_pass.json").write_text("{trunc")
+    solves.clear()
+    run_sweep(SETTINGS, np.array([1.2, 1.3, 1.4]), out)
+    assert solves == [1.3, 1.3]  # 1.3 once more from each neighbour
+    assert set(json.loads((out / "second_pass.json").read_text())) == {"1.300<1.200",
+                                                                        "1.300<1.400"}  # fmt: skip
+
+
+def _cli(capsys, *args):
+    from walk3d.cli import main
+
+    with pytest.raises(SystemExit) as info:
+        main(["sweep", "--nodes", "8", "--criterion", "tor", *map(str, args)])
+    return info.value.code, capsys.readouterr().err.strip().splitlines()
+
+
+def test_cli_resume_errors_are_one_line_and_exit_2(tmp_path, solves, capsys):
+    out = tmp_path / "s"
+    assert _cli(capsys, "--speeds", "1.2,1.4", "--out", out) == (0, [])
+    _place(
+        out,
+        1.2,
+        PredictionSettings(
+            **json.loads((speed_folder(out, 1.2) / "summary.json").read_text())["settings"]
+        ).replace(speed=1.3806),
+    )
+    code, err = _cli(capsys, "--speeds", "1.2,1.4", "--out", out)
+    assert code == 2 and len(err) == 1 and "is at 1.3806 m/s, not 1.2 m/s" in err[0]
+    (out / "sweep.json").write_text("{garbage")
+    code, err = _cli(capsys, "--speeds", "1.2,1.4", "--out", out)
+    assert code == 2 and len(err) == 1 and "sweep.json cannot be read" in err[0]
+    (out / "sweep.json").write_text("[1,2,3]")
+    code, err = _cli(capsys, "--speeds", "1.2,1.4", "--out", out)
+    assert code == 2 and len(err) == 1 and "not a walk3d sweep file" in err[0]
+
+
+def test_cli_solves_a_truncated_speed_again_with_one_warning_line(tmp_path, solves, capsys):
+    out = tmp_path / "s"
+    assert _cli(capsys, "--speeds", "1.2,1.4", "--out", out) == (0, [])
+    summary = speed_folder(out, 1.2) / "summary.json"
+    summary.write_text(summary.read_text()[:40])
+    solves.clear()
+    code, err = _cli(capsys, "--speeds", "1.2,1.4", "--out", out)
+    assert code == 0 and solves == [1.2] and "Traceback" not in "\n".join(err)
+    assert len(err) == 1 and err[0].startswith("walk3d: warning:") and "v_1.200" in err[0]
