@@ -98,7 +98,13 @@ class Prediction(_Prediction):
              report: bool = True) -> Path:  # fmt: skip
         """Write the result folder ``walk3d predict --out`` writes (atomically; an earlier result
         there is replaced), with ``summary.png`` when ``figure``, ``animation.mp4`` when
-        ``animate`` and ``report.html`` when ``report``. Returns the folder."""
+        ``animate`` and ``report.html`` when ``report``. Returns the folder.
+
+        Raises:
+            ValueError: ``out_dir`` is an existing file or a folder of other files (as
+                ``walk3d predict --out``).
+            OSError: the folder could not be written (one line; nothing is left behind).
+        """
         from walk3d.pipeline import write_result
 
         return write_result(self, out_dir, figure=figure, animate=animate, report=report)
@@ -182,12 +188,16 @@ def predict(speed: float = 1.3806, *, period: float | None = None,
     solver's stages to stderr; a callable receives them.
 
     A solve that does not converge still returns, with ``converged`` False and a
-    :class:`RuntimeWarning`. Raises ValueError for bad input.
+    :class:`RuntimeWarning`. Raises ValueError for bad input, an ``out`` that is an existing
+    file or a folder of other files included, before any solve.
     """
+    from walk3d.pipeline import check_result_folder
     from walk3d.pipeline import predict as run
 
     if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+    if out is not None:
+        check_result_folder(out)
     s = settings(speed, period, double_support, mass=mass, height=height, sex=sex, **options)
     on_stage = progress if callable(progress) else _print_stage if progress else None
     pred = Prediction.of(run(s, seed, out_dir=out, animate=animate, report=True, on_stage=on_stage))

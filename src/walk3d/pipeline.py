@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from walk3d import outputs
 from walk3d.body.model import BodyModel
 from walk3d.constants import __version__
 from walk3d.io.errors import OutputWriteError
@@ -130,6 +131,8 @@ def predict(
     from walk3d.solve.landing import solve_with_landing
     from walk3d.solve.starts import solve_warm
 
+    if out_dir is not None:
+        check_result_folder(out_dir)
     warm = threading.Thread(target=_warm_up_plots, name="walk3d-plots", daemon=True)
     if out_dir is not None and figure:
         warm.start()
@@ -183,8 +186,11 @@ def write_result(
     and the result stays.
 
     Raises:
+        ValueError: ``out_dir`` is an existing file or a folder of other files
+            (:func:`check_result_folder`); nothing is written.
         OutputWriteError: the folder could not be written; nothing is left behind.
     """
+    check_result_folder(out_dir)
 
     def add_figure(folder: Path) -> None:
         from walk3d.plots import summary_figure, write_animation
@@ -202,6 +208,13 @@ def write_result(
     if report:
         write_report_or_warn(folder)
     return folder
+
+
+def check_result_folder(out_dir: str | Path, option: str = "out") -> Path:
+    """Refuse a result folder that is an existing file, cannot be written or holds other files
+    than an earlier result: ValueError with one line (the check of ``walk3d predict --out``,
+    :func:`walk3d.outputs.check_output_folder`)."""
+    return outputs.check_output_folder(out_dir, option, replaces="summary.json")
 
 
 class ReportWarning(UserWarning):

@@ -202,30 +202,26 @@ def warned(func, *args, **kwargs):  # noqa: ANN001, ANN201 - passes func's resul
 
 
 def check_output_folder(path: str, option: str = "--out", replaces: str | None = None) -> None:
-    """Refuse, before any work starts, an output folder that cannot be created or written: one
-    line and exit code 2 (a solve of a minute must not end in a write error). With
-    ``replaces`` (a file name), an existing non-empty folder must hold that file, so that only
-    an earlier result is ever replaced, never a folder of other files."""
-    import errno
-    from pathlib import Path
+    """Refuse, before any work starts, an output folder that is an existing file, cannot be
+    created or written, or (with ``replaces``) is a folder of other files: one line and exit
+    code 2 (:func:`walk3d.outputs.check_output_folder`, the API's check too)."""
+    from walk3d.outputs import check_output_folder as check
 
-    out = Path(path)
-    if out.exists() and not out.is_dir():
-        fail(f"{option} {path} is an existing file, not a folder")
-    if replaces and out.is_dir() and any(out.iterdir()) and not (out / replaces).is_file():
-        fail(f"{option} {path} is a folder of other files (no {replaces}); use a new folder")
-    base = out
-    while not base.exists():
-        base = base.parent
-    if not base.is_dir():
-        fail(f"{option} {path} cannot be created: {base} is a file")
-    if not os.access(base, os.W_OK | os.X_OK):
-        try:
-            read_only = os.statvfs(base).f_flag & os.ST_RDONLY
-        except OSError:
-            read_only = False
-        why = os.strerror(errno.EROFS if read_only else errno.EACCES).lower()
-        fail(f"{option} {path} cannot be written ({base}: {why})")
+    try:
+        check(path, option, replaces)
+    except ValueError as exc:
+        fail(str(exc))
+
+
+def check_output_file(path: str, option: str = "--out", suffix: str | None = None) -> None:
+    """Refuse, before any work starts, an output file that is a folder, lacks ``suffix`` or
+    cannot be created: one line and exit code 2 (:func:`walk3d.outputs.check_output_file`)."""
+    from walk3d.outputs import check_output_file as check
+
+    try:
+        check(path, option, suffix)
+    except ValueError as exc:
+        fail(str(exc))
 
 
 def criterion_option(value: str) -> str:
