@@ -1,5 +1,6 @@
 """A full disk and an unwritable folder: predict exits 3 with one line and leaves no folder; a
-campaign start that failed on the disk runs again once space is freed. The full disk is a small
+campaign start that failed on the disk runs again once space is freed; animate exits 3 with one
+line and keeps the earlier video. The full disk is a small
 tmpfs (needs root to mount); the permission check runs as a non-root user."""
 
 import csv
@@ -123,3 +124,50 @@ def test_a_folder_without_write_permission_is_refused_as_a_non_root_user():
         assert _check_as_nobody(base / "writable" / "o", log) == 0  # control: writable passes
     finally:
         shutil.rmtree(base, ignore_errors=True)
+
+
+def _fill(disk: Path, leave_kib: int) -> None:
+    """Fill ``disk`` up to ``leave_kib`` KiB free."""
+    free = shutil.disk_usage(disk).free - leave_kib * 1024
+    (disk / "filler").write_bytes(bytes(max(free, 0)))
+
+
+def _animate_here(capfd, *args) -> tuple[int, str]:
+    """``walk3d animate ARGS`` in this process: exit code and everything written to stderr
+    (ffmpeg's own messages included)."""
+    from walk3d.cli import main
+
+    with pytest.raises(SystemExit) as info:
+        main(["animate", *map(str, args), "--cycles", "1", "--fps", "5"])
+    return info.value.code, capfd.readouterr().err
+
+
+def test_animate_on_a_full_disk_exits_3_with_one_line_and_changes_nothing(tmp_path, capfd):
+    """A real full disk under ffmpeg: the earlier video and manifest stay, --out leaves no
+    file, and ffmpeg's own messages are not printed."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verify"))
+    from verify_support import atlas_prediction
+
+    from walk3d.plots.video import write_animation
+    from walk3d.results.prediction import save_prediction
+    from walk3d.results.views import write_view
+
+    pred, body = atlas_prediction()
+    with tiny_disk(tmp_path, 1024) as disk:
+        folder = save_prediction(pred, disk / "r", body=body)
+        write_view(folder, "animation.mp4", lambda p: write_animation(pred, p, cycles=1, fps=5,
+                                                                      body=body))  # fmt: skip
+        before = {p.name: p.read_bytes() for p in folder.iterdir()}
+        _fill(disk, 40)
+        for target, args in ((folder / "animation.mp4", ()),
+                             (disk / "walk.mp4", ("--out", disk / "walk.mp4"))):  # fmt: skip
+            code, err = _animate_here(capfd, folder, *args)
+            assert code == 3, err[-800:]
+            lines = err.strip().splitlines()
+            assert lines == [f"walk3d: error: could not write {target}: no space left on device"]
+            assert {p.name: p.read_bytes() for p in folder.iterdir()} == before
+            assert sorted(p.name for p in disk.iterdir()) == ["filler", "r"]
+        (disk / "filler").unlink()  # control: with room, the same command writes the video
+        code, err = _animate_here(capfd, folder)
+        assert code == 0 and err == "", err[-800:]
+        assert (folder / "animation.mp4").read_bytes() != b""

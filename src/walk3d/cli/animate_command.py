@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from walk3d.cli.common import EXIT_WRITE, app, console, fail
+from walk3d.cli.common import EXIT_WRITE, app, check_output_file, console, fail
 
 
 @app.command()
@@ -24,8 +24,9 @@ def animate(
     """Write an H.264 MP4 of the walk in DIR at real speed: the body as sticks in a 3D view,
     a side view and a front view, each foot's ground reaction as an arrow from its centre of
     pressure (1 m per body weight) while loaded, CYCLES gait cycles, each a stride further on.
-    Written atomically; DIR's manifest lists a video written into DIR. Exit code 2 for a
-    folder that is not a complete result or a bad --out, 3 if the video cannot be written."""
+    Written aside and then moved into place (a deleted DIR/animation.mp4 is made again), and
+    listed in DIR's manifest. Exit code 2 for a folder that is not a complete
+    result or a bad --out, 3 if the video cannot be written (nothing is changed)."""
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -35,21 +36,21 @@ def animate(
     )
 
     from walk3d.io.errors import DataFileError
+    from walk3d.outputs import write_errors
     from walk3d.plots.video import write_animation
     from walk3d.results.osim_model import prediction_body
-    from walk3d.results.prediction import load_result, record_file
+    from walk3d.results.prediction import load_result
+    from walk3d.results.views import write_view
 
     folder = Path(pred_dir)
     target = Path(out) if out is not None else folder / "animation.mp4"
+    check_output_file(str(target), suffix=".mp4")
+    inside = target.parent.resolve() == folder.resolve() and target.name == "animation.mp4"
     try:
-        pred = load_result(folder)
+        pred = load_result(folder, remade=(target.name,) if inside else ())
         body = prediction_body(pred)
     except (OSError, DataFileError, ValueError, KeyError) as exc:
         fail(f"cannot animate {pred_dir}: {' '.join(str(exc).split())}")
-    if target.suffix.lower() != ".mp4":
-        fail(f"--out must name an .mp4 file, got {target}")
-    if target.is_dir():
-        fail(f"--out {target} is a folder")
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
                TimeElapsedColumn())  # fmt: skip
     try:
@@ -59,10 +60,17 @@ def animate(
             def step(i: int, n: int) -> None:
                 bar.update(task, completed=i, total=n)
 
-            write_animation(pred, target, cycles=cycles, fps=fps, body=body, on_frame=step)
-        if target.resolve().parent == folder.resolve():
-            record_file(folder, target.name)
-    except (OSError, RuntimeError) as exc:
-        fail(f"cannot write {target}: {' '.join(str(exc).split())}", code=EXIT_WRITE)
+            def render(path: Path) -> None:
+                write_animation(pred, path, cycles=cycles, fps=fps, body=body, on_frame=step)
+
+            if inside:
+                write_view(folder, target.name, render)
+            else:
+                with write_errors(target):
+                    render(target)
+    except OSError as exc:
+        fail(" ".join(str(exc).split()), code=EXIT_WRITE)
+    except ValueError as exc:
+        fail(f"cannot animate {pred_dir}: {' '.join(str(exc).split())}")
     console.print(f"walk3d animate -> {target} ({target.stat().st_size / 1e6:.2f} MB, "
                   f"{cycles} cycles at {fps} fps)", markup=False, highlight=False)  # fmt: skip

@@ -11,8 +11,11 @@ next to the destination and is moved over it with :func:`os.replace` when comple
 
 from __future__ import annotations
 
+import errno
 import math
-from collections.abc import Callable
+import os
+import re
+from collections.abc import Callable, Iterable, Iterator
 from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -26,7 +29,7 @@ if TYPE_CHECKING:
     from walk3d.body.model import BodyModel
     from walk3d.results.prediction import Prediction
 
-__all__ = ["FRAME_SIZE", "write_animation"]
+__all__ = ["FRAME_SIZE", "encode_mp4", "write_animation"]
 
 FRAME_SIZE = (1280, 480)
 """Width and height of the video's frames, pixels (multiples of 16, as H.264 prefers)."""
@@ -209,28 +212,71 @@ def write_animation(
         ValueError: bad ``cycles`` or ``fps``, or a prediction that does not fit its body model.
         OSError: the video could not be written (nothing is left behind).
     """
-    import imageio_ffmpeg
-
     from walk3d.results.osim_model import prediction_body
 
     scene = _Scene(pred, body or prediction_body(pred), cycles, fps)
-    width, height = FRAME_SIZE
+
+    def frames() -> Iterator[bytes]:
+        n = scene.frames.n_frames
+        for i in range(n):
+            yield scene.frame(i).tobytes()
+            if on_frame is not None:
+                on_frame(i + 1, n)
 
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
     with atomic_path(target) as tmp:
-        writer = imageio_ffmpeg.write_frames(
-            str(tmp), (width, height), fps=fps, codec="libx264", pix_fmt_in="rgb24",
-            macro_block_size=16, quality=6, output_params=["-f", "mp4"],
-            ffmpeg_log_level="error",
-        )  # fmt: skip
-        try:
-            writer.send(None)
-            n = scene.frames.n_frames
-            for i in range(n):
-                writer.send(scene.frame(i).tobytes())
-                if on_frame is not None:
-                    on_frame(i + 1, n)
-        finally:
-            writer.close()
+        encode_mp4(tmp, frames(), fps)
     return target
+
+
+def encode_mp4(path: Path, frames: Iterable[bytes], fps: float) -> None:
+    """Encode RGB frames of :data:`FRAME_SIZE` as an H.264 MP4 at ``path`` with the ffmpeg of
+    imageio-ffmpeg, its messages kept from the terminal. Raises :class:`OSError` with one line
+    (ffmpeg's reason) when ffmpeg fails, e.g. on a full disk; ffmpeg is stopped on any error."""
+    import subprocess
+    import threading
+
+    import imageio_ffmpeg
+
+    width, height = FRAME_SIZE
+    cmd = [imageio_ffmpeg.get_ffmpeg_exe(), "-y", "-v", "error", "-f", "rawvideo",
+           "-pix_fmt", "rgb24", "-s", f"{width}x{height}", "-r", f"{fps:g}", "-i", "-", "-an",
+           "-vcodec", "libx264", "-pix_fmt", "yuv420p", "-crf", "20", "-f", "mp4",
+           str(path)]  # fmt: skip
+    proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, start_new_session=True)  # fmt: skip
+    said: list[bytes] = []
+    reader = threading.Thread(target=lambda: said.extend(proc.stderr), daemon=True)
+    reader.start()
+    done = False
+    try:
+        try:
+            for frame in frames:
+                proc.stdin.write(frame)
+        except BrokenPipeError:
+            pass  # ffmpeg stopped early: its exit code says why
+        try:
+            proc.stdin.close()
+        except BrokenPipeError:
+            pass
+        code = proc.wait()
+        done = True
+    finally:
+        if not done:
+            proc.kill()
+            proc.wait()
+        reader.join(timeout=10)
+    if code != 0:
+        raise _ffmpeg_error(code, said)
+
+
+def _ffmpeg_error(code: int, said: list[bytes]) -> OSError:
+    """ffmpeg's failure as one OSError: its exit code is the negated errno (mod 256) when the
+    system refused, else its last message line is the reason."""
+    number = 256 - code if 128 < code < 256 else 0
+    if 0 < number < 134:
+        return OSError(number, os.strerror(number))
+    lines = [b.decode("utf-8", "replace").strip() for b in said if b.strip()]
+    last = re.sub(r"^\[[^\]]*\]\s*", "", lines[-1]) if lines else f"exit code {code}"
+    return OSError(errno.EIO, f"ffmpeg: {last}")

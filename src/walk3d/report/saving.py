@@ -1,5 +1,5 @@
 """Writing a finished page: atomically, and listed in the manifest of the prediction folder
-it lands in (:func:`walk3d.results.prediction.record_file`)."""
+it lands in (:func:`walk3d.results.views.write_view`)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,8 @@ from pathlib import Path
 
 from walk3d.io._atomic import atomic_write_text
 from walk3d.report.prediction_page import REPORT
-from walk3d.results.prediction import record_file
+from walk3d.results.prediction import VIEW_FILES, record_file
+from walk3d.results.views import write_view
 
 __all__ = ["save_report"]
 
@@ -17,7 +18,10 @@ def save_report(folder: str | Path, kind: str, page: str, out: Path | None) -> P
     manifest when it lands in a prediction folder; returns its path."""
     root = Path(folder)
     target = out if out is not None else root / REPORT
+    inside = kind == "prediction" and target.resolve().parent == root.resolve()
+    if inside and target.name in VIEW_FILES:  # the page and its manifest entry together
+        return write_view(root, target.name, lambda path: atomic_write_text(path, page))
     atomic_write_text(target, page)
-    if kind == "prediction" and target.resolve().parent == root.resolve():
+    if inside:
         record_file(root, target.name)
     return target

@@ -33,7 +33,7 @@ from __future__ import annotations
 import io
 import json
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass, field, fields
 from os import PathLike
 from pathlib import Path
@@ -249,10 +249,11 @@ def save_prediction(
     return out
 
 
-def check_complete(out_dir: str | PathLike[str]) -> None:
+def check_complete(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> None:
     """Raise :class:`DataFileError` unless ``out_dir`` is a complete result folder: its
     ``manifest.json`` is readable and every file it lists is there with the listed size (for
-    :data:`VIEW_FILES`, only there)."""
+    :data:`VIEW_FILES`, only there; the views in ``remade``, about to be made again, may be
+    missing)."""
     out = Path(out_dir)
     path = out / MANIFEST
     if not out.is_dir():
@@ -270,7 +271,7 @@ def check_complete(out_dir: str | PathLike[str]) -> None:
             raise DataFileError(path, f"the size of {name} is {size!r:.40}, not a byte count")
     for name in (*RESULT_FILES, *files):
         f = out / name
-        if not f.is_file():
+        if not f.is_file() and not (name in remade and name in VIEW_FILES):
             raise DataFileError(out, f"incomplete result folder: {name} is missing")
         if name in files and name not in VIEW_FILES and f.stat().st_size != files[name]:
             raise DataFileError(
@@ -294,15 +295,16 @@ def record_file(out_dir: str | PathLike[str], name: str) -> None:
     check_complete(out)
 
 
-def load_result(out_dir: str | PathLike[str]) -> Prediction:
-    """Read a result folder written by :func:`save_prediction` back into a :class:`Prediction`.
+def load_result(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> Prediction:
+    """Read a result folder written by :func:`save_prediction` back into a :class:`Prediction`
+    (the views in ``remade`` may be missing, see :func:`check_complete`).
 
     Raises:
         DataFileError: the folder is incomplete (:func:`check_complete`), ``result.npz`` is
             damaged, lacks an array or holds NaN or infinite values (NaN centres of pressure
             aside), or ``summary.json`` is not a JSON object.
     """
-    check_complete(out_dir)
+    check_complete(out_dir, remade)
     out = Path(out_dir)
     npz_path = out / "result.npz"
     values: dict[str, Any] = {"summary": read_json_object(out / "summary.json", "walk3d summary")}
