@@ -31,6 +31,7 @@ from walk3d.calibration.fit import (
 )
 from walk3d.io.calibration import read_calibration, write_calibration
 from walk3d.io.storage import read_storage
+from walk3d.outputs import check_output_file, replace_files, write_errors
 from walk3d.trials.descriptors import descriptors_from_trial, foot_loads
 from walk3d.trials.kinematics import kinematics_from_storage
 
@@ -57,7 +58,11 @@ def calibrate_from_trial(
     speed: float | None = None,
     figures: bool = True,
 ) -> CalibrationResult:
-    """Calibrate ``body``'s subject from one trial; write ``out`` (and figures) when given."""
+    """Calibrate ``body``'s subject from one trial; write ``out`` and its figures when given,
+    all or none (built aside, then moved into place: :func:`walk3d.outputs.replace_files`;
+    OutputWriteError when they cannot be written)."""
+    if out is not None:
+        check_output_file(out, "out")
     ik_s = read_storage(ik)
     loads = foot_loads(grf)
     desc = descriptors_from_trial(ik_s, loads, threshold=threshold, speed=speed)
@@ -85,12 +90,15 @@ def calibrate_from_trial(
     )
     path, figs = None, []
     if out is not None:
-        path = write_calibration(out, cal.to_dict())
-        if figures:
-            stem = path.with_suffix("")
-            figs.append(rollover_figure(samples, rollover, body.rollover,
-                                        f"{stem}_rollover.png"))  # fmt: skip
-            figs.append(transition_figure(check, f"{stem}_transition.png"))
+        path = Path(out)
+        with write_errors(path), replace_files(path.parent, last=path.name) as tmp:
+            write_calibration(tmp / path.name, cal.to_dict())  # moved last, after its figures
+            if figures:
+                stem = path.stem
+                figs.append(rollover_figure(samples, rollover, body.rollover,
+                                            tmp / f"{stem}_rollover.png"))  # fmt: skip
+                figs.append(transition_figure(check, tmp / f"{stem}_transition.png"))
+        figs = [path.parent / f.name for f in figs]
     return CalibrationResult(cal, check, path, tuple(figs), samples)
 
 

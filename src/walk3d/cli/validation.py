@@ -7,7 +7,19 @@ from typing import Annotated
 
 import typer
 
-from walk3d.cli.common import BeltSpeed, Height, Mass, PlateThreshold, Sex, app, console, fail
+from walk3d.cli.common import (
+    EXIT_WRITE,
+    BeltSpeed,
+    Height,
+    Mass,
+    PlateThreshold,
+    Sex,
+    app,
+    check_output_file,
+    check_output_folder,
+    console,
+    fail,
+)
 
 
 @app.command()
@@ -31,9 +43,12 @@ def validate(
     ] = None,
 ) -> None:
     """Compare a prediction with measured walking: Table 2 (RMSE and r per quantity), Table 3
-    (criteria and their x/y/z split) and figures, written to --out."""
-    from walk3d.io.errors import DataFileError
+    (criteria and their x/y/z split) and figures, written to --out all together, in place of
+    an earlier validation there. Exit code 2 for bad input (also an --out that is a file or a
+    folder of other files), 3 if the folder cannot be written (nothing is changed)."""
+    from walk3d.io.errors import DataFileError, OutputWriteError
     from walk3d.results.prediction import load_result
+    from walk3d.validation.run import VALIDATION_MARK
     from walk3d.validation.run import validate as run
     from walk3d.validation.tables import table2, table3
 
@@ -42,6 +57,7 @@ def validate(
     except (OSError, ValueError) as exc:
         fail(f"cannot read the prediction {pred_dir}: {' '.join(str(exc).split())}")
     target = out if out is not None else os.path.join(pred_dir, "validation")
+    check_output_folder(target, "--out", replaces=VALIDATION_MARK)
     if threshold <= 0:
         fail(f"--threshold must be positive, got {threshold}")
     try:
@@ -50,6 +66,8 @@ def validate(
                 {"prediction": pred}, reference, target,
                 threshold=threshold, speed=speed, forward=forward,
             )  # fmt: skip
+    except OutputWriteError as exc:
+        fail(str(exc), code=EXIT_WRITE)
     except (OSError, DataFileError, ValueError, KeyError) as exc:
         fail(" ".join(str(exc).split()))
     console.print(table2(v, f"Table 2: {pred_dir} vs {v.reference.name}"))
@@ -81,12 +99,14 @@ def calibrate(
 ) -> None:
     """Fit the stance-foot roll-over and the double-support transition ratios to a trial and
     write them to a calibration file, with the figures OUT_rollover.png and
-    OUT_transition.png beside it."""
+    OUT_transition.png beside it: all three or none. Exit code 2 for bad input, 3 if they
+    cannot be written (nothing is changed)."""
     from walk3d.body.model import build_body
     from walk3d.calibration.calibrate import calibrate_from_trial
     from walk3d.calibration.tables import calibration_table
-    from walk3d.io.errors import DataFileError
+    from walk3d.io.errors import DataFileError, OutputWriteError
 
+    check_output_file(out)
     if sex not in ("male", "female"):
         fail(f"--sex must be 'male' or 'female', got {sex!r}")
     try:
@@ -96,6 +116,8 @@ def calibrate(
     try:
         with console.status("walk3d: calibrating"):
             result = calibrate_from_trial(ik, grf, body, out, threshold=threshold, speed=speed)
+    except OutputWriteError as exc:
+        fail(str(exc), code=EXIT_WRITE)
     except (OSError, DataFileError, ValueError) as exc:
         fail(" ".join(str(exc).split()))
     console.print(calibration_table(result, f"walk3d calibrate -> {out}"))

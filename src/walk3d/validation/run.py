@@ -27,9 +27,11 @@ from pathlib import Path
 from typing import Any
 
 from walk3d.body.model import build_body
+from walk3d.io._atomic import atomic_folder
 from walk3d.io.cycle_table import read_cycle_table
 from walk3d.io.storage import read_storage
 from walk3d.io.tables import write_csv_table
+from walk3d.outputs import check_output_folder, write_errors
 from walk3d.problem.settings import recorded_settings
 from walk3d.results.prediction import Prediction
 from walk3d.trials.kinematics import kinematics_from_storage, kinematics_from_table
@@ -40,9 +42,12 @@ from walk3d.validation.figures import comparison_figures
 from walk3d.validation.measured import GaitFit, fit_measured_gait
 from walk3d.validation.reference import Reference, reference_from_table, trial_reference
 
-__all__ = ["Validation", "sort_references", "table2_rows", "validate"]
+__all__ = ["VALIDATION_MARK", "Validation", "sort_references", "table2_rows", "validate"]
 
 TABLE3_COLUMNS = ("source", "criterion", "component", "value", "percent", "unit")
+
+VALIDATION_MARK = "table2.csv"
+"""The file every validation folder holds: only such a folder is replaced by another."""
 
 
 @dataclass(frozen=True)
@@ -159,10 +164,15 @@ def validate(
     forward: str | None = None,
 ) -> Validation:
     """Run the comparison (module doc); write ``table2.csv``, ``table3.csv``,
-    ``measured_fit.csv`` and the figures to ``out_dir`` when given. ``forward`` is the lab axis
-    the walker faces in C3D references (``"-y"``...; detected when None)."""
+    ``measured_fit.csv`` and the figures to ``out_dir`` when given, all or none: built in a
+    temporary sibling, then in place of an earlier validation there (a folder of other files is
+    refused with ValueError before any work; OutputWriteError when it cannot be written).
+    ``forward`` is the lab axis the walker faces in C3D references (``"-y"``...; detected when
+    None)."""
     if not predictions:
         raise ValueError("no prediction to validate")
+    if out_dir is not None:
+        check_output_folder(out_dir, "out_dir", replaces=VALIDATION_MARK)
     first = next(iter(predictions.values()))
     mass, height, sex, notes = _subject(first)
     table_paths, trial_files = sort_references(references)
@@ -205,17 +215,19 @@ def validate(
     files: dict[str, Path] = {}
     if out_dir is not None:
         out = Path(out_dir)
-        files["table2"] = write_csv_table(out / "table2.csv", cols2, rows2)
-        if rows3:
-            files["table3"] = write_csv_table(out / "table3.csv", TABLE3_COLUMNS, rows3)
-        if fit is not None:
-            rows = [{"dof": k, "rmse_vs_measured_deg": v,
-                     "rmse_vs_fitted_deg": fit.fit_rmse_deg.get(k),
-                     "projection_change_deg": fit.projection_change_deg.get(k)}
-                    for k, v in fit.rmse_deg.items()]  # fmt: skip
-            files["fit"] = write_csv_table(out / "measured_fit.csv", tuple(rows[0]), rows)
-        if figures:
-            files.update(comparison_figures(comparisons, out))
+        with write_errors(out), atomic_folder(out) as tmp:  # all of it or nothing
+            files["table2"] = write_csv_table(tmp / "table2.csv", cols2, rows2)
+            if rows3:
+                files["table3"] = write_csv_table(tmp / "table3.csv", TABLE3_COLUMNS, rows3)
+            if fit is not None:
+                rows = [{"dof": k, "rmse_vs_measured_deg": v,
+                         "rmse_vs_fitted_deg": fit.fit_rmse_deg.get(k),
+                         "projection_change_deg": fit.projection_change_deg.get(k)}
+                        for k, v in fit.rmse_deg.items()]  # fmt: skip
+                files["fit"] = write_csv_table(tmp / "measured_fit.csv", tuple(rows[0]), rows)
+            if figures:
+                files.update(comparison_figures(comparisons, tmp))
+        files = {k: out / p.name for k, p in files.items()}
     return Validation(reference, comparisons, rows2, cols2, rows3, fit, fit_source, notes, files)
 
 

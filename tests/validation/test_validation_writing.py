@@ -1,0 +1,87 @@
+"""``walk3d validate --out`` writes all of its files or none: a full disk is exit 3 with the
+folder in its one line and the earlier validation intact, Ctrl-C leaves nothing, and a folder
+of other files is refused before any work (tests/disk_support.py injects the full disk)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from disk_support import full_disk, snapshot  # noqa: E402
+
+TABLES = 3
+"""table2.csv, table3.csv and measured_fit.csv, written before the figures."""
+
+
+@pytest.fixture(scope="module")
+def pred_dir(synthetic_prediction, tmp_path_factory):
+    from walk3d.results.prediction import save_prediction
+
+    return save_prediction(synthetic_prediction, tmp_path_factory.mktemp("pred") / "p")
+
+
+@pytest.fixture()
+def table(falisse):
+    return falisse / "cycle_right_leg_mean_sd.csv"
+
+
+def _validate(capfd, *args) -> tuple[int, str]:
+    from walk3d.cli import main
+
+    with pytest.raises(SystemExit) as info:
+        main(["validate", *map(str, args)])
+    return info.value.code, capfd.readouterr().err
+
+
+def test_validate_on_a_full_disk_exits_3_and_keeps_the_earlier_validation(
+    pred_dir, table, tmp_path, capfd, monkeypatch
+):
+    out = tmp_path / "v"
+    out.mkdir()
+    (out / "table2.csv").write_text("the earlier table 2\n")
+    (out / "grf.png").write_bytes(b"the earlier figure")
+    before = snapshot(tmp_path)
+    synced = full_disk(monkeypatch, after=TABLES)
+    code, err = _validate(capfd, pred_dir, "--reference", table, "--out", out)
+    assert code == 3, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err, err
+    assert lines[0] == f"walk3d: error: could not write {out}: no space left on device"
+    assert len(synced) == TABLES  # control: the tables were written when the disk filled up
+    assert snapshot(tmp_path) == before and [p.name for p in tmp_path.iterdir()] == ["v"]
+
+
+def test_validate_interrupted_while_writing_leaves_nothing(
+    synthetic_prediction, table, tmp_path, monkeypatch
+):
+    from walk3d.validation.run import validate
+
+    synced = full_disk(monkeypatch, after=TABLES, error=KeyboardInterrupt)
+    with pytest.raises(KeyboardInterrupt):
+        validate({"p": synthetic_prediction}, [table], tmp_path / "v")
+    assert len(synced) == TABLES  # control: interrupted after the tables, before the figures
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("kind", ["folder of other files", "existing file"])
+def test_validate_refuses_an_out_it_did_not_write(
+    synthetic_prediction, pred_dir, table, tmp_path, capfd, kind
+):
+    from walk3d.validation.run import validate
+
+    out = tmp_path / "mine"
+    if kind == "existing file":
+        out.write_text("mine")
+    else:
+        out.mkdir()
+        (out / "thesis.txt").write_text("mine")
+    before = snapshot(tmp_path)
+    code, err = _validate(capfd, pred_dir, "--reference", table, "--out", out)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and kind in err, err
+    with pytest.raises(ValueError, match=kind):  # the library refuses it too
+        validate({"p": synthetic_prediction}, [table], out)
+    assert snapshot(tmp_path) == before
