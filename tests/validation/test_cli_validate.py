@@ -75,6 +75,19 @@ def test_unknown_reference_and_missing_inputs(pred_dir, tmp_path):
     assert r.returncode == 2 and "reference" in r.stderr and len(r.stderr.splitlines()) == 1
 
 
+@pytest.mark.parametrize(
+    ("speed", "words"),
+    [("nan", "speed must be a finite number, got nan"), ("-1", "speed must be in (0, 4] m/s")],
+)
+def test_a_bad_belt_speed_is_one_plain_line(pred_dir, tmp_path, falisse, speed, words):
+    """The settings' check, not pydantic's multi-line error with its web link."""
+    r = _run("validate", pred_dir, "--reference", falisse / "gait_1_ik.mot", "--reference",
+             falisse / "gait_1_grf.mot", "--speed", speed, "--out", tmp_path / "v")  # fmt: skip
+    _one_line_error(r, words)
+    assert "pydantic" not in r.stderr and "validation error" not in r.stderr
+    assert not (tmp_path / "v").exists()
+
+
 def test_calibrate_bad_input(tmp_path, falisse):
     _one_line_error(
         _run("calibrate", "--ik", tmp_path / "no.mot", "--grf", falisse / "gait_1_grf.mot",
