@@ -11,6 +11,7 @@ BAD = [
     (["--criterion", "tor=1,accel=1"], "named presets"),
     (["--criterion", ""], "named presets"),
     (["--speeds", "2:1:0.1"], "empty or reversed"),
+    (["--speeds", "0.1:4:1e-10"], "speeds, at most 41"),
 ]
 
 
@@ -29,3 +30,16 @@ def test_atlas_show_lists_the_shipped_files():
                        text=True, timeout=60, env=os.environ | {"COLUMNS": "200"})  # fmt: skip
     assert r.returncode == 0, r.stderr
     assert "male" in r.stdout and "natural" in r.stdout and "yes" in r.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "line"),
+    [(["atlas"], "walk3d: error: walk3d atlas needs a command: build, show"),
+     (["atlas", "bogus"], "walk3d: error: No such command 'bogus'.")],
+)  # fmt: skip
+def test_atlas_without_its_command_shows_the_help_and_one_error_line(args, line):
+    """Not an empty "walk3d: error:" line; a wrong command is the control (its own message)."""
+    r = subprocess.run([sys.executable, "-m", "walk3d.cli", *args], capture_output=True,
+                       text=True, timeout=60, env=os.environ | {"COLUMNS": "200"})  # fmt: skip
+    assert r.returncode == 2 and r.stderr.strip().splitlines() == [line], r.stderr
+    assert ("Usage: walk3d atlas" in r.stdout + r.stderr) == (args == ["atlas"])

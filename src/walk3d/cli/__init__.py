@@ -52,6 +52,16 @@ def _interrupted() -> None:
     os._exit(130)
 
 
+def _needs_command(exc: Exception) -> str:
+    """The line for a command group given no command (``walk3d atlas``), whose help Typer has
+    just shown: its click error has no message."""
+    ctx = getattr(exc, "ctx", None)
+    group = getattr(ctx, "command", None)
+    if ctx is None or not hasattr(group, "list_commands"):
+        return "a command is missing (see --help)"
+    return f"{ctx.command_path} needs a command: {', '.join(group.list_commands(ctx))}"
+
+
 def _run(args: list[str]) -> None:
     """Run the command line on ``args``; always ends in SystemExit (or ``os._exit``)."""
     command = typer.main.get_command(app)
@@ -66,7 +76,7 @@ def _run(args: list[str]) -> None:
         if kind == "Abort":
             _interrupted()
         if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
-            msg = " ".join(exc.format_message().split())
+            msg = " ".join(exc.format_message().split()) or _needs_command(exc)
             sys.stderr.write(f"walk3d: error: {msg}\n")
             sys.exit(2)
         raise
