@@ -31,7 +31,7 @@ from walk3d.validation.reference import reference_from_table
 from walk3d.verify.periodic import periodic_records
 
 EXAMPLES = {"npz_arrays": 120, "npz_bytes": 50, "summary": 60, "manifest": 60, "motion": 60,
-            "grf_xml": 70, "cycle_table": 70, "atlas": 90, "cli_verify": 15,
+            "grf_xml": 70, "cycle_table": 70, "atlas": 90, "sweep": 60, "cli_verify": 15,
             "cli_atlas": 15}  # fmt: skip
 """Examples per reader."""
 CASES = sum(EXAMPLES.values())
@@ -330,6 +330,32 @@ def test_damaged_atlas_files_end_in_an_atlas_or_one_line():
     def run(data: bytes) -> None:
         path.write_bytes(data)
         _only_data_file_errors(read_atlas, path)
+
+    run()
+
+
+# -- sweep.json, through walk3d.campaign.sweep_folder.check_folder ------------------------------
+
+
+def test_damaged_sweep_files_end_in_a_resume_or_one_line():
+    from walk3d.campaign.sweep_folder import SweepMismatch, check_folder
+    from walk3d.problem.settings import PredictionSettings
+
+    folder = _DIR / "sweep"
+    folder.mkdir(exist_ok=True)
+    ours = PredictionSettings()
+    check_folder(folder, ours)  # writes sweep.json; the control: it resumes
+    check_folder(folder, ours)
+    valid = json.loads((folder / "sweep.json").read_text())
+
+    @fuzz("sweep")
+    @given(damaged_json(valid))
+    def run(data: bytes) -> None:
+        (folder / "sweep.json").write_bytes(data)
+        try:
+            check_folder(folder, ours)
+        except SweepMismatch as exc:
+            assert "\n" not in str(exc)
 
     run()
 
