@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+import warnings
 from typing import Annotated
 
 import typer
@@ -21,7 +23,6 @@ from walk3d.cli.common import (
     console,
     fail,
     settings_from_options,
-    warned,
 )
 from walk3d.problem.terms import DEFAULT_PRESET
 
@@ -68,13 +69,15 @@ def sweep(
     columns = (TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/"
                "{task.total} speeds"), TimeElapsedColumn())  # fmt: skip
     try:
-        with Progress(*columns, console=console, transient=True) as bar:
+        with Progress(*columns, console=console, transient=True) as bar, warnings.catch_warnings():
+            warnings.simplefilter("default")  # each once per place, as it happens
+            warnings.showwarning = _warning_line
             task = bar.add_task("walk3d sweep", total=len(values))
 
             def progress(message: str, done: int, total: int) -> None:
                 bar.update(task, completed=done, description=f"walk3d sweep: {message}"[:80])
 
-            report = warned(run_sweep, settings, values, out, seed=seed, on_progress=progress)
+            report = run_sweep(settings, values, out, seed=seed, on_progress=progress)
     except SweepMismatch as exc:
         fail(str(exc))
     except OSError as exc:
@@ -99,3 +102,9 @@ def sweep(
     )
     if not all(r["converged"] and r["looks_like_walking"] for r in report.rows):
         raise typer.Exit(1)
+
+
+def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
+    """Print a warning as one line, ``walk3d: warning: ...`` (a speed solved again), not
+    Python's two-line form."""
+    sys.stderr.write(f"walk3d: warning: {' '.join(str(message).split())}\n")
