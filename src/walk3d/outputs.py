@@ -12,16 +12,21 @@ from __future__ import annotations
 
 import errno
 import os
+import re
 import shutil
-from collections.abc import Iterator
+from collections.abc import Callable, Collection, Iterator
 from contextlib import contextmanager
 from os import PathLike
 from pathlib import Path
 
-from walk3d.io._atomic import fsync_dir, temporary_sibling
+from walk3d.io._atomic import TMP_PREFIX, fsync_dir, temporary_sibling
 from walk3d.io.errors import OutputWriteError
 
-__all__ = ["check_output_file", "check_output_folder", "replace_files", "write_errors"]
+__all__ = ["check_output_file", "check_output_folder", "foreign_files", "replace_files",
+           "write_errors"]  # fmt: skip
+
+_ATOMIC_TEMPORARY = re.compile(r"^\..+\.[0-9a-f]{12}\.\w+$")
+"""The name of :func:`~walk3d.io._atomic.atomic_write`'s temporary file (``.name.<hex>.tmp``)."""
 
 
 def _writable_base(out: Path, option: str, path: str) -> None:
@@ -40,21 +45,54 @@ def _writable_base(out: Path, option: str, path: str) -> None:
         raise ValueError(f"{option} {path} cannot be written ({base}: {why})")
 
 
+def foreign_files(folder: str | PathLike[str], own: Collection[str]) -> list[str]:
+    """The entries of ``folder`` that walk3d did not write, as sorted relative paths (a folder
+    ends with ``/``): neither in ``own`` (relative paths, ``/``-separated) nor walk3d's
+    temporaries; a sub-folder holding some of ``own`` is searched, any other is foreign."""
+    parents = {"/".join(p.split("/")[:k]) for p in own for k in range(1, p.count("/") + 1)}
+    found: list[str] = []
+
+    def search(base: str, prefix: str) -> None:
+        for entry in sorted(os.scandir(base), key=lambda e: e.name):
+            rel, is_dir = prefix + entry.name, entry.is_dir(follow_symlinks=False)
+            if entry.name.startswith(TMP_PREFIX) or _ATOMIC_TEMPORARY.match(entry.name):
+                continue  # an interrupted walk3d's
+            if is_dir and rel in parents:
+                search(entry.path, rel + "/")
+            elif is_dir or rel not in own:
+                found.append(rel + "/" * is_dir)
+
+    search(os.fspath(folder), "")
+    return found
+
+
 def check_output_folder(
-    path: str | PathLike[str], option: str = "--out", replaces: str | None = None
+    path: str | PathLike[str],
+    option: str = "--out",
+    replaces: str | None = None,
+    own: Collection[str] | Callable[[Path], Collection[str]] | None = None,
 ) -> Path:
     """Refuse, before any work starts, an output folder that is an existing file or cannot be
     created or written: ValueError with one line naming ``option``. With ``replaces`` (a file
     name), an existing non-empty folder must hold that file, so that only an earlier result is
-    ever replaced, never a folder of other files. Returns the folder."""
+    ever replaced, never a folder of other files; with ``own`` too (the paths walk3d writes
+    there, or a function of the folder giving them), it must hold nothing else
+    (:func:`foreign_files`). Returns the folder."""
     out = Path(path)
     shown = os.fspath(path)
     if out.exists() and not out.is_dir():
         raise ValueError(f"{option} {shown} is an existing file, not a folder")
-    if replaces and out.is_dir() and any(out.iterdir()) and not (out / replaces).is_file():
-        raise ValueError(
-            f"{option} {shown} is a folder of other files (no {replaces}); use a new folder"
-        )
+    if replaces and out.is_dir() and any(out.iterdir()):
+        if not (out / replaces).is_file():
+            raise ValueError(
+                f"{option} {shown} is a folder of other files (no {replaces}); use a new folder"
+            )
+        foreign = [] if own is None else foreign_files(out, own(out) if callable(own) else own)
+        if foreign:
+            more = f" and {len(foreign) - 5} more" if len(foreign) > 5 else ""
+            raise ValueError(f"{option} {shown} holds an earlier result and files walk3d did not "
+                             f"write ({', '.join(foreign[:5])}{more}); move them out or use a "
+                             "new folder")  # fmt: skip
     _writable_base(out, option, shown)
     return out
 

@@ -9,7 +9,6 @@ from pathlib import Path
 
 import numpy as np
 
-from walk3d import outputs
 from walk3d.body.model import BodyModel
 from walk3d.constants import __version__
 from walk3d.io.errors import OutputWriteError
@@ -17,7 +16,7 @@ from walk3d.problem import similarity, terms
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
 from walk3d.results.gait_checks import realism_figures, walking_checks
-from walk3d.results.prediction import Prediction, save_prediction
+from walk3d.results.prediction import Prediction, check_result_folder, save_prediction
 from walk3d.solve import SOLVE_REVISION, blas
 from walk3d.solve.landing import LANDING, landing_of
 
@@ -208,13 +207,6 @@ def write_result(
     if report:
         write_report_or_warn(folder)
     return folder
-
-
-def check_result_folder(out_dir: str | Path, option: str = "out") -> Path:
-    """Refuse a result folder that is an existing file, cannot be written or holds other files
-    than an earlier result: ValueError with one line (the check of ``walk3d predict --out``,
-    :func:`walk3d.outputs.check_output_folder`)."""
-    return outputs.check_output_folder(out_dir, option, replaces="summary.json")
 
 
 class ReportWarning(UserWarning):

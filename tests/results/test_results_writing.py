@@ -4,10 +4,13 @@ with the earlier result intact. No solve: the shipped atlas solution stands in."
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
 import pytest
+
+import walk3d
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verify"))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -59,20 +62,78 @@ def test_the_cli_and_the_api_share_one_output_check(monkeypatch, tmp_path):
     calls = []
     real = walk3d.outputs.check_output_folder
 
-    def spy(path, option="--out", replaces=None):
-        calls.append((option, replaces))
-        return real(path, option, replaces)
+    def spy(path, option="--out", replaces=None, own=None):
+        calls.append((option, replaces, own))
+        return real(path, option, replaces, own)
 
     monkeypatch.setattr(walk3d.outputs, "check_output_folder", spy)
-    common.check_output_folder(str(tmp_path / "a"), replaces="summary.json")
+    from walk3d.cli import main
+    from walk3d.results.prediction import written_files
+
+    with pytest.raises(SystemExit):  # the check passes; --nodes 1 stops before any solve
+        main(["predict", "--out", str(tmp_path / "a"), "--nodes", "1"])
     check_result_folder(tmp_path / "a")
-    assert calls == [("--out", "summary.json"), ("out", "summary.json")]
+    assert calls == [("--out", "summary.json", written_files), ("out", "summary.json",
+                                                                written_files)]  # fmt: skip
     (tmp_path / "x.txt").write_text("x")  # the same refusal, one line each
     with pytest.raises(ValueError) as api_error:
         check_result_folder(tmp_path)
     with pytest.raises(common.typer.Exit) as cli_exit:
         common.check_output_folder(str(tmp_path), replaces="summary.json")
     assert cli_exit.value.exit_code == 2 and "folder of other files" in str(api_error.value)
+
+
+def _earlier_result(prediction, folder):
+    """An earlier result with all that walk3d adds to it later: a report, a validation and
+    the temporaries of an interrupted walk3d."""
+    _save(prediction, folder)
+    (folder / "report.html").write_text("<html></html>")
+    (folder / "validation").mkdir()
+    for name in ("table2.csv", "grf.png"):
+        (folder / "validation" / name).write_text("walk3d's")
+    (folder / ".tmp_files_0123456789ab").mkdir()
+    (folder / ".summary.json.0123456789ab.tmp").write_text("{")
+    return folder
+
+
+@pytest.mark.parametrize("foreign", ["notes.txt", "validation/notes.txt", "figures/"])
+def test_save_refuses_an_earlier_result_holding_files_walk3d_did_not_write(
+    prediction, tmp_path, foreign
+):
+    """The user's notes beside (or inside the validation of) an earlier result were deleted
+    with it; now the folder is refused, naming them, and nothing is touched."""
+    folder = _earlier_result(prediction, tmp_path / "r")
+    (folder / foreign).mkdir() if foreign.endswith("/") else (folder / foreign).write_text("mine")
+    before = snapshot(tmp_path)
+    with pytest.raises(ValueError, match="files walk3d did not write") as info:
+        _save(prediction, folder)
+    assert "\n" not in str(info.value) and f"({foreign})" in str(info.value)
+    assert snapshot(tmp_path) == before
+    with pytest.raises(ValueError, match=re.escape(foreign)):  # walk3d.predict: before a solve
+        walk3d.predict(1.3, out=folder)
+    # control: without the user's file the earlier result is replaced
+    (folder / foreign).rmdir() if foreign.endswith("/") else (folder / foreign).unlink()
+    _save(prediction, folder)
+    assert not (folder / "validation").exists() and (folder / "manifest.json").is_file()
+
+
+def test_cli_predict_refuses_an_earlier_result_holding_a_file_of_the_user(
+    prediction, tmp_path, capsys
+):
+    from walk3d.cli import main
+
+    folder = _earlier_result(prediction, tmp_path / "r")
+    (folder / "notes.txt").write_text("mine")
+    with pytest.raises(SystemExit) as info:
+        main(["predict", "--out", str(folder), "--nodes", "1"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert info.value.code == 2 and len(err) == 1 and "(notes.txt)" in err[0], err
+    assert (folder / "notes.txt").read_text() == "mine"
+    (folder / "notes.txt").unlink()  # control: the check passes, --nodes 1 is refused next
+    with pytest.raises(SystemExit) as info:
+        main(["predict", "--out", str(folder), "--nodes", "1"])
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and "nodes" in err and "did not write" not in err, err
 
 
 @pytest.mark.parametrize("kind", ["file", "folder of other files"])

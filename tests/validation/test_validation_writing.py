@@ -85,3 +85,27 @@ def test_validate_refuses_an_out_it_did_not_write(
     with pytest.raises(ValueError, match=kind):  # the library refuses it too
         validate({"p": synthetic_prediction}, [table], out)
     assert snapshot(tmp_path) == before
+
+
+def test_validate_refuses_an_earlier_validation_holding_a_file_of_the_user(
+    synthetic_prediction, pred_dir, table, tmp_path, capfd
+):
+    """An earlier validation was replaced with the user's notes in it; now it is refused,
+    naming them. Control: the earlier validation alone (and its temporaries) is replaced."""
+    from walk3d.validation.run import validate
+
+    out = tmp_path / "v"
+    out.mkdir()
+    for name in ("table2.csv", "table3.csv", "grf.png", ".table2.csv.0123456789ab.tmp"):
+        (out / name).write_text("walk3d's")
+    (out / "notes.txt").write_text("mine")
+    before = snapshot(tmp_path)
+    code, err = _validate(capfd, pred_dir, "--reference", table, "--out", out)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "(notes.txt)" in err, err
+    with pytest.raises(ValueError, match="did not write"):
+        validate({"p": synthetic_prediction}, [table], out)
+    assert snapshot(tmp_path) == before
+    (out / "notes.txt").unlink()
+    code, err = _validate(capfd, pred_dir, "--reference", table, "--out", out)
+    assert code == 0, err
+    assert (out / "table2.csv").read_text() != "walk3d's" and not (out / "notes.txt").exists()

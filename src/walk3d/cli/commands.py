@@ -34,7 +34,6 @@ from walk3d.cli.common import (
     Start,
     TrialGrf,
     app,
-    check_output_folder,
     console,
     fail,
     gait_fields,
@@ -179,10 +178,16 @@ def predict(
     summary.png (and animation.mp4 with --animate) and, last, report.html. Exit code 0 if the
     solve converged, 1 if not (results are still written and labelled), 2 for bad input, 3 if
     the folder could not be written (nothing is left), 130 on Ctrl-C. An earlier result in DIR
-    is replaced. T and Td are predicted with the gait unless given (--period,
-    --double-support, --paper). With --from-trial IK.mot --grf GRF.mot, V, T and Td come from
-    the trial unless --speed, --period or --double-support are given."""
-    check_output_folder(out, replaces="summary.json")
+    is replaced; a DIR that also holds files walk3d did not write is refused. T and Td are
+    predicted with the gait unless given (--period, --double-support, --paper). With
+    --from-trial IK.mot --grf GRF.mot, V, T and Td come from the trial unless --speed,
+    --period or --double-support are given."""
+    from walk3d.results.prediction import check_result_folder
+
+    try:  # the API's check (walk3d.predict, Prediction.save)
+        check_result_folder(out, "--out")
+    except ValueError as exc:
+        fail(str(exc))
     case = paper_case(ctx, paper, {"speed": speed, "period": period, "mass": mass, "sex": sex,
                                    "double_support": double_support, "height": height,
                                    "criterion": criterion})  # fmt: skip

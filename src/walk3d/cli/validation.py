@@ -16,7 +16,6 @@ from walk3d.cli.common import (
     Sex,
     app,
     check_output_file,
-    check_output_folder,
     console,
     fail,
 )
@@ -45,10 +44,11 @@ def validate(
     """Compare a prediction with measured walking: Table 2 (RMSE and r per quantity), Table 3
     (criteria and their x/y/z split) and figures, written to --out all together, in place of
     an earlier validation there. Exit code 2 for bad input (also an --out that is a file or a
-    folder of other files), 3 if the folder cannot be written (nothing is changed)."""
+    folder holding files walk3d did not write), 3 if the folder cannot be written (nothing is
+    changed)."""
     from walk3d.io.errors import DataFileError, OutputWriteError
-    from walk3d.results.prediction import load_result
-    from walk3d.validation.run import VALIDATION_MARK
+    from walk3d.results.prediction import VALIDATION_FOLDER, load_result
+    from walk3d.validation.run import check_validation_folder
     from walk3d.validation.run import validate as run
     from walk3d.validation.tables import table2, table3
 
@@ -56,8 +56,11 @@ def validate(
         pred = load_result(pred_dir)  # the reader of walk3d verify, report and animate
     except (OSError, ValueError) as exc:
         fail(f"cannot read the prediction {pred_dir}: {' '.join(str(exc).split())}")
-    target = out if out is not None else os.path.join(pred_dir, "validation")
-    check_output_folder(target, "--out", replaces=VALIDATION_MARK)
+    target = out if out is not None else os.path.join(pred_dir, VALIDATION_FOLDER)
+    try:
+        check_validation_folder(target, "--out")
+    except ValueError as exc:
+        fail(str(exc))
     if threshold <= 0:
         fail(f"--threshold must be positive, got {threshold}")
     try:

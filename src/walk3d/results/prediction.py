@@ -23,6 +23,10 @@ and a JSON-ready ``summary`` dictionary. :func:`save_prediction` writes a result
 
 * ``manifest.json``: written last, every file's name and size (:func:`check_complete`).
 
+Views (:data:`VIEW_FILES`) and ``validation/`` (``walk3d validate``'s default ``--out``) may
+be added later. An earlier result is replaced only when the folder holds nothing else
+(:func:`check_result_folder`).
+
 The folder is written atomically: built in a temporary sibling, then renamed into place.
 :func:`load_result` reads ``result.npz`` and ``summary.json`` back; all arrays come back
 bit-for-bit except ``joint_angle``, whose degree-radian round trip is exact to ~1 ulp.
@@ -41,6 +45,7 @@ from typing import Any
 
 import numpy as np
 
+from walk3d import outputs
 from walk3d.body.model import BodyModel
 from walk3d.io._atomic import atomic_folder, atomic_write_bytes, atomic_write_text
 from walk3d.io.checks import plain_file_name, read_json_object, read_npz, require_finite
@@ -57,10 +62,14 @@ __all__ = [
     "Prediction",
     "OPENSIM_FILES",
     "RESULT_FILES",
+    "VALIDATION_FILES",
+    "VALIDATION_FOLDER",
     "check_complete",
+    "check_result_folder",
     "load_result",
     "record_file",
     "save_prediction",
+    "written_files",
 ]
 
 RESULT_FILES = ("result.npz", "summary.json", "motion.mot", "grf.mot", "grf.xml")
@@ -80,6 +89,13 @@ checked."""
 
 MANIFEST = "manifest.json"
 """Written last into a result folder: every file's name and size in bytes."""
+
+VALIDATION_FOLDER = "validation"
+"""``walk3d validate``'s default ``--out``, inside the result folder."""
+
+VALIDATION_FILES = ("table2.csv", "table3.csv", "measured_fit.csv", "grf.png", "moments.png",
+                    "angles.png")  # fmt: skip
+"""What :func:`walk3d.validation.run.validate` writes into its folder."""
 
 _NAME_FIELDS = ("segment_names", "dof_names", "joint_names")
 
@@ -277,6 +293,26 @@ def check_complete(out_dir: str | PathLike[str], remade: Collection[str] = ()) -
             raise DataFileError(
                 f, f"incomplete result file: {f.stat().st_size} bytes, manifest says {files[name]}"
             )
+
+
+def written_files(out_dir: str | PathLike[str]) -> set[str]:
+    """The paths walk3d writes in the result folder ``out_dir``: the files its manifest lists
+    (unread if damaged), those of every result, the views and ``validation/``'s files."""
+    try:
+        listed = read_json_object(Path(out_dir) / MANIFEST, "walk3d manifest").get("files")
+    except (OSError, ValueError):
+        listed = None
+    names = {*RESULT_FILES, *OPENSIM_FILES, *C3D_FILES, *VIEW_FILES, MANIFEST}
+    if isinstance(listed, dict):
+        names |= {name for name in listed if isinstance(name, str)}
+    return names | {f"{VALIDATION_FOLDER}/{name}" for name in VALIDATION_FILES}
+
+
+def check_result_folder(out_dir: str | PathLike[str], option: str = "out") -> Path:
+    """Refuse a result folder that is an existing file, cannot be written, or holds other files
+    than an earlier result (:func:`written_files`): ValueError, one line naming them. The
+    check of ``walk3d predict --out`` and the API (:func:`walk3d.outputs.check_output_folder`)."""
+    return outputs.check_output_folder(out_dir, option, replaces="summary.json", own=written_files)
 
 
 def record_file(out_dir: str | PathLike[str], name: str) -> None:

@@ -33,7 +33,7 @@ from walk3d.io.storage import read_storage
 from walk3d.io.tables import write_csv_table
 from walk3d.outputs import check_output_folder, write_errors
 from walk3d.problem.settings import recorded_settings
-from walk3d.results.prediction import Prediction
+from walk3d.results.prediction import VALIDATION_FILES, Prediction
 from walk3d.trials.kinematics import kinematics_from_storage, kinematics_from_table
 from walk3d.trials.trial import Trial, classify_storage, load_c3d_trial, load_trial
 from walk3d.validation.compare import Comparison, compare, cycle_timing
@@ -42,12 +42,20 @@ from walk3d.validation.figures import comparison_figures
 from walk3d.validation.measured import GaitFit, fit_measured_gait
 from walk3d.validation.reference import Reference, reference_from_table, trial_reference
 
-__all__ = ["VALIDATION_MARK", "Validation", "sort_references", "table2_rows", "validate"]
+__all__ = ["VALIDATION_MARK", "Validation", "check_validation_folder", "sort_references",
+           "table2_rows", "validate"]  # fmt: skip
 
 TABLE3_COLUMNS = ("source", "criterion", "component", "value", "percent", "unit")
 
 VALIDATION_MARK = "table2.csv"
 """The file every validation folder holds: only such a folder is replaced by another."""
+
+
+def check_validation_folder(out_dir: str | PathLike[str], option: str = "out_dir") -> Path:
+    """Refuse an output folder that is a file, cannot be written, or is not an earlier
+    validation of only walk3d's files (:data:`~walk3d.results.prediction.VALIDATION_FILES`):
+    ValueError, one line. ``walk3d validate --out``'s check too."""
+    return check_output_folder(out_dir, option, replaces=VALIDATION_MARK, own=VALIDATION_FILES)
 
 
 @dataclass(frozen=True)
@@ -165,14 +173,14 @@ def validate(
 ) -> Validation:
     """Run the comparison (module doc); write ``table2.csv``, ``table3.csv``,
     ``measured_fit.csv`` and the figures to ``out_dir`` when given, all or none: built in a
-    temporary sibling, then in place of an earlier validation there (a folder of other files is
-    refused with ValueError before any work; OutputWriteError when it cannot be written).
+    temporary sibling, then in place of an earlier validation there (a folder with other files
+    is refused with ValueError before any work; OutputWriteError when it cannot be written).
     ``forward`` is the lab axis the walker faces in C3D references (``"-y"``...; detected when
     None)."""
     if not predictions:
         raise ValueError("no prediction to validate")
     if out_dir is not None:
-        check_output_folder(out_dir, "out_dir", replaces=VALIDATION_MARK)
+        check_validation_folder(out_dir)
     first = next(iter(predictions.values()))
     mass, height, sex, notes = _subject(first)
     table_paths, trial_files = sort_references(references)
