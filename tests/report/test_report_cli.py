@@ -38,6 +38,28 @@ def test_cli_without_measured_data_still_writes_the_page(fresh_folder, tmp_path)
     assert not (fresh_folder / "report.html").exists()  # --out elsewhere
 
 
+def test_cli_makes_a_deleted_report_again(fresh_folder, tmp_path):
+    """report.html listed in the manifest, then deleted: the folder was refused as incomplete;
+    like walk3d animate for its video, report makes the view again. Control: another view
+    deleted (summary.png) still makes the folder incomplete."""
+    assert _report(fresh_folder).returncode == 0
+    (fresh_folder / "report.html").unlink()
+    r = _report(fresh_folder)
+    assert r.returncode == 0, r.stderr
+    check_complete(fresh_folder)  # listed in the manifest again, with its new size
+    (fresh_folder / "report.html").unlink()
+    assert write_report(fresh_folder, data="/none")[1] == fresh_folder / "report.html"  # API
+    other = tmp_path / "other"
+    shutil.copytree(fresh_folder, other)
+    (other / "summary.png").write_bytes(b"png")
+    files = json.loads((other / "manifest.json").read_text())
+    files["files"]["summary.png"] = 3
+    (other / "manifest.json").write_text(json.dumps(files))
+    (other / "summary.png").unlink()
+    r = _report(other)
+    assert r.returncode == 2 and "summary.png is missing" in r.stderr, r.stderr
+
+
 @pytest.mark.parametrize("case", ["missing", "neither", "no_manifest", "bad_out", "bad_data"])
 def test_cli_bad_input_one_line_exit_2(result_folder, tmp_path, case):
     args = {

@@ -31,8 +31,9 @@ def report(
     split, joint angles, moments and ground reactions over measured normative bands, and the
     animation if DIR has one; for a campaign, its starts, the five best and the best
     prediction. Written atomically; a page written into a prediction folder is listed in its
-    manifest. Exit code 2 for a folder of neither kind, a bad option or a --data folder whose
-    tables are malformed or hold NaN or infinite values; 3 if it cannot be written."""
+    manifest, and made again when deleted. Exit code 2 for a folder of neither kind, a bad
+    option or a --data folder whose tables are malformed or hold NaN or infinite values; 3 if
+    it cannot be written."""
     from walk3d.report.norms import SOURCES, find_data, load_norms
     from walk3d.report.writer import build_report, save_report
 
@@ -53,7 +54,7 @@ def report(
         fail(f"--data {data}: {' '.join(str(exc).split())}")
     try:
         with console.status("walk3d: writing the report"):
-            kind, page = build_report(folder, norms)
+            kind, page = build_report(folder, norms, target)
     except (OSError, ValueError) as exc:
         fail(f"cannot report on {folder}: {' '.join(str(exc).split())}")
     try:

@@ -10,7 +10,16 @@ from walk3d.report.prediction_page import REPORT
 from walk3d.results.prediction import VIEW_FILES, record_file
 from walk3d.results.views import write_view
 
-__all__ = ["save_report"]
+__all__ = ["remade_views", "save_report"]
+
+
+def remade_views(folder: str | Path, out: Path | None) -> tuple[str, ...]:
+    """The view of the prediction ``folder`` that a page written to ``out`` (default
+    ``folder/report.html``) makes again, so that it may be missing when the folder is read."""
+    root = Path(folder)
+    target = out if out is not None else root / REPORT
+    inside = target.resolve().parent == root.resolve() and target.name in VIEW_FILES
+    return (target.name,) if inside else ()
 
 
 def save_report(folder: str | Path, kind: str, page: str, out: Path | None) -> Path:

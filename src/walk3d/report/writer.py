@@ -14,7 +14,7 @@ from pathlib import Path
 
 from walk3d.report.norms import Norms, find_data, load_norms
 from walk3d.report.prediction_page import prediction_page
-from walk3d.report.saving import save_report
+from walk3d.report.saving import remade_views, save_report
 from walk3d.results.prediction import load_result
 
 __all__ = ["build_report", "folder_kind", "save_report", "write_report"]
@@ -30,8 +30,11 @@ def folder_kind(folder: str | PathLike[str]) -> str | None:
     return "campaign" if (root / CAMPAIGN_FILE).is_file() else None
 
 
-def build_report(folder: str | PathLike[str], norms: Norms) -> tuple[str, str]:
-    """``(kind, page)`` of ``folder``, read but not written.
+def build_report(
+    folder: str | PathLike[str], norms: Norms, out: Path | None = None
+) -> tuple[str, str]:
+    """``(kind, page)`` of ``folder``, read but not written; ``out`` is where the page goes
+    (default ``folder/report.html``, which may then be missing: it is made again).
 
     Raises:
         ValueError: ``folder`` is neither kind, or a file in it is malformed (DataFileError).
@@ -47,7 +50,8 @@ def build_report(folder: str | PathLike[str], norms: Norms) -> tuple[str, str]:
             from walk3d.report.campaign_page import campaign_page
 
             return kind, campaign_page(root, norms)
-        return kind, prediction_page(load_result(root), root, norms)
+        pred = load_result(root, remade=remade_views(root, out))
+        return kind, prediction_page(pred, root, norms)
     except (KeyError, TypeError, AttributeError, IndexError, StopIteration) as exc:
         raise ValueError(f"{root}: a file has unexpected content ({type(exc).__name__}: "
                          f"{' '.join(str(exc).split())})") from None  # fmt: skip
@@ -61,5 +65,6 @@ def write_report(
     """Build and save the page of ``folder`` (see :func:`build_report`, :func:`save_report`);
     ``data`` is the measured-data folder (default: :func:`walk3d.report.norms.find_data`).
     Returns ``(kind, path)``."""
-    kind, page = build_report(folder, load_norms(find_data(data)))
-    return kind, save_report(folder, kind, page, None if out is None else Path(out))
+    target = None if out is None else Path(out)
+    kind, page = build_report(folder, load_norms(find_data(data)), target)
+    return kind, save_report(folder, kind, page, target)
