@@ -6,7 +6,11 @@ import subprocess
 import sys
 import time
 
+import pytest
+
 from walk3d.campaign import store
+
+pytestmark = pytest.mark.campaign
 
 STARTS = 6
 

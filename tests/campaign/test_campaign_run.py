@@ -10,6 +10,8 @@ from walk3d.campaign import rank, run_campaign, store
 from walk3d.campaign.task import FAIL_ENV
 from walk3d.problem.settings import PredictionSettings
 
+pytestmark = pytest.mark.campaign
+
 TINY = PredictionSettings(nodes=6, max_iter=3, restarts=0)  # no start converges: no restarts
 SEEDS = list(range(10, 16))
 FAILING = 12

@@ -70,6 +70,7 @@ def test_order_starts_near_the_pivot_and_each_speed_follows_a_solved_neighbour()
         seen.add(i)
 
 
+@pytest.mark.campaign
 def test_a_tiny_sweep_writes_its_table_figure_and_folders_and_resumes(tmp_path):
     t, td = descriptors.first_guess(1.2, 1.77)
     tiny = PredictionSettings(nodes=6, max_iter=3, restarts=0, criterion="tor", speed=1.2,

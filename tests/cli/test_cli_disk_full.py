@@ -44,6 +44,7 @@ def _grow(mnt: Path, kib: int) -> None:
     subprocess.run(["mount", "-o", f"remount,size={kib}k", str(mnt)], check=True)
 
 
+@pytest.mark.solve
 def test_predict_on_a_full_disk_exits_3_with_one_line_and_leaves_nothing(tmp_path):
     """300 KiB hold result.npz, summary.json and the .mot files but not summary.png."""
     with tiny_disk(tmp_path, 300) as disk:
@@ -59,6 +60,7 @@ def test_predict_on_a_full_disk_exits_3_with_one_line_and_leaves_nothing(tmp_pat
         assert (disk / "o" / "manifest.json").is_file() and (disk / "o" / "summary.png").is_file()
 
 
+@pytest.mark.campaign
 def test_a_campaign_start_that_failed_on_a_full_disk_runs_again_on_resume(tmp_path):
     with tiny_disk(tmp_path, 200) as disk:
         out = disk / "c"

@@ -81,6 +81,7 @@ def test_campaign_refuses_an_unusable_hsl_solver_before_starting(tmp_path):
     assert not out.exists()
 
 
+@pytest.mark.solve
 def test_a_prediction_that_did_not_converge_is_written_labelled_and_exits_1(tmp_path):
     """Three iterations per stage cannot converge: after its restart the start is written
     anyway, labelled as not converged everywhere, and the command exits with code 1."""
@@ -133,6 +134,7 @@ def test_an_unwritable_output_folder_names_the_reason(tmp_path, monkeypatch):
     assert info.value.exit_code == 2
 
 
+@pytest.mark.solve
 def test_ctrl_c_stops_predict_with_one_line_exit_130_and_no_output(tmp_path):
     """SIGINT while the model builds or IPOPT iterates: a line, code 130, nothing written."""
     import signal
@@ -155,6 +157,7 @@ def test_ctrl_c_stops_predict_with_one_line_exit_130_and_no_output(tmp_path):
     assert not out.exists()
 
 
+@pytest.mark.solve
 def test_paper_flag_gives_the_papers_case_and_auto_predicts_the_descriptors(tmp_path):
     """--paper: the paper's subject, V, T, Td and C_tor, nothing predicted; without it T and Td
     are predicted (``summary.json``'s ``descriptors``). Three iterations: not converged."""

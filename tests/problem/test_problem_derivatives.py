@@ -74,6 +74,7 @@ def test_structured_derivatives_equal_casadi(dynamics, balance, extra):
     np.testing.assert_allclose(np.array(g_val).ravel(), np.array(g_ref).ravel())
 
 
+@pytest.mark.model
 @pytest.mark.parametrize(("dynamics", "criterion"), [(True, "en"), (False, "tor")])
 def test_column_blocks_equal_the_node_derivatives(dynamics, criterion):
     """The blocks that are compiled to C (derivative_chunks, joined by assemble) give the
@@ -120,6 +121,7 @@ def test_column_blocks_equal_the_node_derivatives(dynamics, criterion):
                                    atol=1e-11)  # fmt: skip
 
 
+@pytest.mark.model
 def test_selected_rows_keep_their_values_and_derivatives():
     """select_rows: a stage sees only the bounded rows; the values, Jacobian rows and the
     Hessian (free rows' multipliers are zero) are those of the whole NLP."""

@@ -31,6 +31,7 @@ def test_grid_follows_the_phases_and_integrates_the_half_cycle():
     assert grid.double_support.sum() == grid.n_ds + 1
 
 
+@pytest.mark.model
 def test_the_grid_does_not_depend_on_the_first_guess():
     """The problem, and so its optimum, is the same from any first guess of T and Td: only the
     objective's constant scale T0 / T differs."""
@@ -79,6 +80,7 @@ def _point(prob, seed=3):
     return z, rng.normal(size=prob["g"].numel())
 
 
+@pytest.mark.model
 @pytest.mark.parametrize(
     ("dynamics", "balance", "criterion"),
     [(True, True, "tor=1,jerk=0.5,impact=2,arms=1"), (True, True, "en"), (False, True, "tor")],
@@ -151,6 +153,7 @@ def test_bounds_pin_s_before_the_last_stage_and_free_it_in_human_ranges():
     assert b.lbz[-2] == b.ubz[-2] == 1.1 and b.lbz[-1] < 0.15 < b.ubz[-1]
 
 
+@pytest.mark.model
 def test_given_descriptors_keep_the_paper_problem():
     """Without a predicted descriptor the NLP is the regular-grid one: no s, the same rows and
     the same values as the values recorded before s existed (C_tor objective and g at a fixed

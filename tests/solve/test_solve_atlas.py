@@ -99,6 +99,7 @@ def atlas_noise_any(seed):
     return bool(starts.atlas_noise(seed, 0.05).any())
 
 
+@pytest.mark.model
 @pytest.mark.parametrize("sex", ["male", "female"])
 def test_the_shipped_atlas_matches_the_model_and_solver(sex):
     """The default preset's atlas exists for both sexes, was made by this solve revision for
@@ -123,6 +124,7 @@ def test_the_shipped_atlas_matches_the_model_and_solver(sex):
     assert other["objective"] != pytest.approx(fp["objective"], rel=1e-4)
 
 
+@pytest.mark.solve
 def test_an_atlas_entry_is_the_optimum_of_its_problem(monkeypatch):
     """At an entry's own speed the start is its problem's optimum: every shipped entry was
     checked when written (``write_atlas``), one is checked here. Negative control: on a grid
@@ -196,6 +198,7 @@ def test_a_failed_atlas_start_falls_back_to_standing(monkeypatch):
     assert calls
 
 
+@pytest.mark.solve
 def test_a_prediction_from_the_atlas_walks_in_few_iterations():
     """The default prediction's path: the atlas's starts, the full problem alone with the free
     landing, then the handover at its T and Td (walk3d.solve.landing)."""

@@ -2,6 +2,7 @@
 
 import casadi as ca
 import numpy as np
+import pytest
 
 from walk3d.problem import layout, nlp
 from walk3d.problem.settings import PredictionSettings
@@ -9,6 +10,7 @@ from walk3d.solve.baseline import _Dense, slsqp_solve
 from walk3d.solve.ipopt import initial_guess
 
 
+@pytest.mark.model
 def test_dense_rows_have_the_bounds_of_each_stage():
     s = PredictionSettings(nodes=6, absolute="smooth")
     for dynamics in (False, True):
@@ -17,6 +19,7 @@ def test_dense_rows_have_the_bounds_of_each_stage():
         assert g.size == dense.lbg.size == dense.ubg.size
 
 
+@pytest.mark.model
 def test_dense_rows_equal_the_lifted_nlp_rows():
     s = PredictionSettings(nodes=6, absolute="smooth")
     dense = _Dense(s, dynamics=True)
@@ -38,6 +41,7 @@ def test_dense_rows_equal_the_lifted_nlp_rows():
     np.testing.assert_allclose(g_dense[bounded], expected[bounded], rtol=1e-9, atol=1e-12)
 
 
+@pytest.mark.solve
 def test_baseline_out_of_time_is_labelled_unconverged():
     out = slsqp_solve(PredictionSettings(nodes=6), 0, time_limit_s=0.5)
     assert not out.converged

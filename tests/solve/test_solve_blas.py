@@ -17,6 +17,7 @@ import pytest
 from walk3d.solve import blas, compiled
 
 pytestmark = [
+    pytest.mark.model,
     pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the bridge is Linux only"),
     pytest.mark.skipif(blas.bundled_library() is None, reason="this CasADi bundles no OpenBLAS"),
     pytest.mark.skipif(

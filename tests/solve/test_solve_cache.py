@@ -34,6 +34,7 @@ def _run(fn: ca.Function, z0: np.ndarray, b) -> np.ndarray:
     return np.array(sol["x"]).ravel()
 
 
+@pytest.mark.model
 def test_solver_from_cache_equals_a_fresh_one(cache_dir):
     fresh = solver._build.__wrapped__(SETTINGS, "ipopt", True)  # empty cache: built and stored
     assert not fresh.from_cache and len(list(cache_dir.glob("model-*.casadi"))) == 1
@@ -62,6 +63,7 @@ def test_solver_from_cache_equals_a_fresh_one(cache_dir):
     np.testing.assert_array_equal(_run(*full[0]), _run(*full[1]))
 
 
+@pytest.mark.model
 def test_a_damaged_entry_is_rebuilt_and_rewritten(cache_dir, caplog, recorded):
     body = body_for(SETTINGS)
     model_cache.write_functions(_key(SETTINGS), recorded[0])
@@ -180,6 +182,7 @@ def test_model_functions_read_only_the_model_settings_of_the_key(recorded):
     assert node.serialize() != fns[nlp._node_name(True, True, False)].serialize()
 
 
+@pytest.mark.model
 def test_gait_descriptors_leave_the_node_functions_unchanged(recorded):
     """V, T and Td reach the node functions as node parameters (schedule.node_params), so the
     functions, and with them the key of their compiled derivatives (walk3d compile), are the

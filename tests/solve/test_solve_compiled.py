@@ -12,6 +12,8 @@ from walk3d.problem import derivatives
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import compiled, model_cache, solver
 
+pytestmark = pytest.mark.model
+
 SETTINGS = PredictionSettings(nodes=6, criterion="en")
 
 

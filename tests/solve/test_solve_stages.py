@@ -15,6 +15,7 @@ SETTINGS = PredictionSettings(nodes=6, max_iter=3, balance_max_iter=3, restarts=
 """Few iterations: no stage converges. Without restarts, so one standing start's stages."""
 
 
+@pytest.mark.solve
 def test_stages_are_built_once_on_first_use_or_in_the_background():
     solver = solver_mod._build.__wrapped__(SETTINGS, "ipopt", False)
     assert solver.stage_build_s == {}  # nothing built yet
@@ -35,6 +36,7 @@ def test_stages_are_built_once_on_first_use_or_in_the_background():
         solver.prepare("walking")
 
 
+@pytest.mark.solve
 def test_exit_waits_for_a_background_build():
     """A process that exits while a stage builds in the background exits cleanly: the exit
     handler (``join_builds``) waits for it; without it CasADi crashed such exits (SIGSEGV or
@@ -53,6 +55,7 @@ def test_exit_waits_for_a_background_build():
     assert r.returncode == 0 and r.stdout == "leaving\n", (r.returncode, r.stderr[-300:])
 
 
+@pytest.mark.solve
 def test_a_solve_builds_only_the_stages_it_runs():
     settings = SETTINGS.replace(**{"posture_stage": "off"})
     solver_mod._build.cache_clear()
@@ -77,6 +80,7 @@ def test_progress_reports_every_iteration_of_every_stage():
     assert all(r._listener is None for r in ipopt.build_solver(settings).reporters.values())
 
 
+@pytest.mark.solve
 def test_the_sqp_method_builds_its_stages_with_casadis_own_derivatives():
     # sqpmethod refuses IPOPT's grad_f / jac_g / hess_lag options (it used to fail here)
     sqp = solver_mod._build.__wrapped__(SETTINGS, "sqp", False)
@@ -85,6 +89,7 @@ def test_the_sqp_method_builds_its_stages_with_casadis_own_derivatives():
         assert fn.class_name() == "Sqpmethod"
 
 
+@pytest.mark.solve
 @pytest.mark.parametrize(
     ("update", "expected"),
     [
@@ -133,6 +138,7 @@ def test_stage_sequence_of_the_posture_fallback(update, expected):
     assert outcome.iterations == sum(st["iterations"] for st in outcome.stages)
 
 
+@pytest.mark.solve
 def test_a_start_that_did_not_converge_restarts_from_new_standing_starts():
     settings = SETTINGS.replace(**{"posture_stage": "off", "restarts": 2})
     outcome = ipopt.solve(settings, seed=0)
@@ -155,6 +161,7 @@ def test_a_start_that_did_not_converge_restarts_from_new_standing_starts():
     assert not any(np.allclose(z[k], ipopt.initial_guess(solver, 1)) for k in range(3))
 
 
+@pytest.mark.solve
 def test_another_mass_and_stature_are_solved_as_the_reference_subjects_problem(monkeypatch):
     """solve() builds only the reference subject's NLP (shared node functions, cache entry and
     compiled derivatives) and returns the subject's x: the same coefficients, the half step
@@ -172,6 +179,7 @@ def test_another_mass_and_stature_are_solved_as_the_reference_subjects_problem(m
     assert a.iterations == b.iterations
 
 
+@pytest.mark.solve
 def test_a_failed_balance_stage_after_the_posture_stage_restarts_at_once():
     settings = SETTINGS.replace(**{"restarts": 1, "posture_balance_max_iter": 2})
     outcome = ipopt.solve(settings, seed=0)

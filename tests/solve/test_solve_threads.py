@@ -2,9 +2,12 @@
 (so a campaign start, one thread, and ``walk3d predict --seed``, every core, agree)."""
 
 import numpy as np
+import pytest
 
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import ipopt
+
+pytestmark = pytest.mark.solve
 
 SETTINGS = PredictionSettings(nodes=6, max_iter=4, balance_max_iter=4)
 

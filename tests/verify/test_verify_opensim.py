@@ -22,7 +22,7 @@ from walk3d.results.osim_model import motion_extent, osim_model
 from walk3d.verify.compare import BARS
 from walk3d.verify.run import verify_prediction
 
-pytestmark = needs_opensim
+pytestmark = [pytest.mark.opensim, needs_opensim]
 
 RAJAGOPAL_PELVIS_ORIGIN = np.array([0.0563, 0.0785, 0.0])
 """Rajagopal 2016's pelvis origin relative to the midpoint of its hip centres (its hip_r sits at
