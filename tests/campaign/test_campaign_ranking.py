@@ -1,6 +1,7 @@
 """Campaign bookkeeping without solving: ranking order, folder layout, refusing a resume."""
 
 import json
+import re
 import subprocess
 import sys
 
@@ -159,6 +160,44 @@ def test_cli_refuses_changed_settings_on_resume(tmp_path, args, word):
     assert len(lines) == 1 and word in lines[0] and lines[0].startswith("walk3d: error:"), r.stderr
     assert (out / "campaign.json").read_bytes() == before
     assert not list(store.starts_dir(out).iterdir())
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [("[" * 100000, "campaign.json is unreadable (invalid JSON (RecursionError))"),
+     ("[1, 2]", "campaign.json is unreadable (not a walk3d campaign file"),
+     ('{"settings": 3, "starts": 2}', "campaign.json is not a walk3d campaign file"),
+     ('{"settings": {}, "starts": "2"}', "campaign.json is not a walk3d campaign file")],
+    ids=["nested", "list", "settings", "starts"],
+)  # fmt: skip
+def test_a_damaged_campaign_json_is_one_line_and_exit_2_on_resume(tmp_path, text, words):
+    """Nested too deep it raised RecursionError (a traceback), a JSON list or a wrong type
+    AttributeError or TypeError. Control: the same resume of an intact campaign.json gets
+    past it to the changed --speed."""
+    out = tmp_path / "c"
+    store.open_campaign(out, TINY, 0, 2, "ipopt")
+    intact = (out / "campaign.json").read_text()
+    (out / "campaign.json").write_text(text)
+    with pytest.raises(store.CampaignMismatch, match=re.escape(words)):
+        store.open_campaign(out, TINY, 0, 2, "ipopt")
+    cmd = [sys.executable, "-m", "walk3d.cli", "campaign", "--starts", "2", "--out", str(out),
+           "--nodes", "6", "--max-iter", "3", "--criterion", "tor", "--period", "1.08",
+           "--double-support", "0.16", "--speed", "1.2"]  # fmt: skip
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode == 2 and len(lines) == 1 and words in lines[0], r.stderr
+    (out / "campaign.json").write_text(intact)
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and "speed: stored" in r.stderr, r.stderr
+
+
+def test_a_start_record_nested_too_deep_is_no_record(tmp_path):
+    folder = tmp_path / "seed_000001"
+    folder.mkdir()
+    (folder / store.RECORD_FILE).write_text("[" * 100000)
+    assert store.read_record(folder) is None
+    (folder / store.RECORD_FILE).write_text('{"seed": 1}')  # control
+    assert store.read_record(folder) == {"seed": 1}
 
 
 @pytest.mark.parametrize(

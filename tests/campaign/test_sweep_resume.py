@@ -4,6 +4,7 @@ sweep.json is one line and exit code 2. The solves are scripted (no optimization
 
 import csv
 import json
+import re
 
 import numpy as np
 import pytest
@@ -155,21 +156,38 @@ def test_a_summary_the_sweep_cannot_tabulate_is_solved_again(tmp_path, solves):
 @pytest.mark.parametrize(
     ("text", "words"),
     [("{garbage", "sweep.json cannot be read"), ("[1,2,3]", "not a walk3d sweep file"),
-     ('{"settings": 3}', "not a walk3d sweep file"), ("", "cannot be read")],
+     ('{"settings": 3}', "not a walk3d sweep file"), ("", "cannot be read"),
+     ("[" * 100000, "sweep.json cannot be read (invalid JSON")],
+    ids=["garbage", "list", "settings", "empty", "nested"],
 )  # fmt: skip
 def test_a_bad_sweep_json_is_refused(tmp_path, solves, text, words):
+    """Nested too deep, it raised RecursionError; now one line like any damage."""
     out = tmp_path / "s"
     out.mkdir()
     (out / "sweep.json").write_text(text)
-    with pytest.raises(SweepMismatch, match=words):
+    with pytest.raises(SweepMismatch, match=re.escape(words)) as info:
         run_sweep(SETTINGS, SPEEDS, out)
-    assert solves == []
+    assert solves == [] and "\n" not in str(info.value)
 
 
-def test_a_damaged_second_pass_record_means_the_tries_are_made_again(tmp_path, solves):
+def test_a_speed_summary_nested_too_deep_is_solved_again(tmp_path, solves):
+    """summary.json of '[' * 100000 with the manifest in order raised RecursionError."""
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, SPEEDS, out)
+    folder = speed_folder(out, 1.2)
+    (folder / "summary.json").write_text("[" * 100000)
+    files = {p.name: p.stat().st_size for p in folder.iterdir() if p.name != MANIFEST}
+    (folder / MANIFEST).write_text(json.dumps({"files": files}))
+    solves.clear()
+    with pytest.warns(RuntimeWarning, match=r"v_1.200 cannot be read .*invalid JSON"):
+        assert run_sweep(SETTINGS, SPEEDS, out).ran == 1 and solves == [1.2]
+
+
+@pytest.mark.parametrize("text", ["{trunc", "[" * 100000, "[1, 2]"], ids=["cut", "nested", "list"])
+def test_a_damaged_second_pass_record_means_the_tries_are_made_again(tmp_path, solves, text):
     out = tmp_path / "s"
     run_sweep(SETTINGS, np.array([1.2, 1.3, 1.4]), out)
-    (out / "second_pass.json").write_text("{trunc")
+    (out / "second_pass.json").write_text(text)
     solves.clear()
     run_sweep(SETTINGS, np.array([1.2, 1.3, 1.4]), out)
     assert solves == [1.3, 1.3]  # 1.3 once more from each neighbour

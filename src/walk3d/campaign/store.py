@@ -34,6 +34,7 @@ from walk3d.io._atomic import (
     fsync_dir,
     temporary_sibling,
 )
+from walk3d.io.checks import read_json_object
 from walk3d.problem.settings import PredictionSettings, flat_settings
 from walk3d.solve import SOLVE_REVISION
 from walk3d.solve.starts import ATLAS_NOISE_FRACTION
@@ -96,8 +97,8 @@ def _describe(value: Any) -> str:
 
 
 def read_campaign(out_dir: str | Path) -> dict:
-    """The stored ``campaign.json`` of ``out_dir``."""
-    return json.loads((Path(out_dir) / CAMPAIGN_FILE).read_text(encoding="utf-8"))
+    """The stored ``campaign.json`` of ``out_dir`` (one DataFileError line when damaged)."""
+    return read_json_object(Path(out_dir) / CAMPAIGN_FILE, "walk3d campaign file")
 
 
 def _mismatch(stored: dict, requested: dict) -> str | None:
@@ -149,7 +150,10 @@ def open_campaign(
         try:
             stored = read_campaign(out)
         except (OSError, ValueError) as exc:
-            raise CampaignMismatch(f"{path} is unreadable ({exc}); use a new --out") from None
+            why = getattr(exc, "reason", None) or " ".join(str(exc).split())
+            raise CampaignMismatch(f"{path} is unreadable ({why}); use a new --out") from None
+        if not isinstance(stored.get("settings"), dict) or type(stored.get("starts")) is not int:
+            raise CampaignMismatch(f"{path} is not a walk3d campaign file; use a new --out")
         added = sorted(set(flat_settings(requested["settings"]))
                        - set(flat_settings(stored.get("settings", {}))))  # fmt: skip
         if added:  # settings introduced since: its starts may have run otherwise
@@ -200,10 +204,9 @@ def clean_temporaries(out_dir: str | Path) -> list[Path]:
 def read_record(folder: Path) -> dict | None:
     """The record of a start folder, or None when missing or unreadable."""
     try:
-        record = json.loads((folder / RECORD_FILE).read_text(encoding="utf-8"))
+        return read_json_object(folder / RECORD_FILE, "walk3d start record")
     except (OSError, ValueError):
         return None
-    return record if isinstance(record, dict) else None
 
 
 def finished_records(out_dir: str | Path, repair: bool = False) -> dict[int, dict]:

@@ -36,6 +36,7 @@ import numpy as np
 
 from walk3d.campaign.sweep_folder import SweepMismatch, check_folder, speed_folder, stored
 from walk3d.io._atomic import atomic_write_text
+from walk3d.io.checks import read_json_object
 from walk3d.problem import descriptors, terms
 from walk3d.problem.settings import PredictionSettings
 
@@ -184,10 +185,9 @@ def _second_pass(settings, speeds, out, summaries, first_from, seed, solver, on_
 
     path = out / "second_pass.json"
     try:  # a damaged record only means that the tries are made again
-        done = json.loads(path.read_text(encoding="utf-8")) if path.is_file() else {}
+        done = read_json_object(path, "walk3d second-pass record") if path.is_file() else {}
     except (OSError, ValueError):
         done = {}
-    done = done if isinstance(done, dict) else {}
     crit = settings.model.criterion
     for i, v in enumerate(map(float, speeds)):
         others = [nb for nb in (i - 1, i + 1) if 0 <= nb < len(speeds) and nb != first_from[i]]

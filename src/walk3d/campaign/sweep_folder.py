@@ -19,6 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from walk3d.io._atomic import atomic_write_text
+from walk3d.io.checks import read_json_object
+from walk3d.io.errors import DataFileError
 from walk3d.problem.settings import ModelSettings, PredictionSettings, recorded_settings
 
 __all__ = ["PROBLEM_FIELDS", "SweepMismatch", "check_folder", "difference", "speed_folder",
@@ -50,12 +52,12 @@ def check_folder(out: Path, settings: PredictionSettings) -> None:
         key["gait"].pop(name)
     path = out / "sweep.json"
     if path.is_file():
-        try:
-            stored_ = json.loads(path.read_text(encoding="utf-8"))
-        except (OSError, ValueError) as exc:
-            why = " ".join(str(exc).split())
+        try:  # one line for any damage, nesting too deep included
+            stored_ = read_json_object(path, "walk3d sweep file")
+        except (OSError, DataFileError) as exc:
+            why = getattr(exc, "reason", None) or " ".join(str(exc).split())
             raise SweepMismatch(f"{path} cannot be read ({why}); use a new folder") from None
-        if not isinstance(stored_, dict) or not isinstance(stored_.get("settings"), dict):
+        if not isinstance(stored_.get("settings"), dict):
             raise SweepMismatch(f"{path} is not a walk3d sweep file; use a new folder")
         if _sweep_key(stored_["settings"]) != _sweep_key(key):
             raise SweepMismatch(f"{out} holds a sweep with other settings; use a new folder "
@@ -103,7 +105,7 @@ def stored(
             continue
         try:
             check_complete(folder)
-            summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+            summary = read_json_object(folder / "summary.json", "walk3d summary")
             usable(summary)
             [float(x) for x in summary["coefficients"]["x"]]  # a warm start's coefficients
             why = difference(summary, settings, v)
