@@ -59,3 +59,51 @@ def test_calibrate_interrupted_while_writing_leaves_nothing(falisse, tmp_path, m
                              build_body(), tmp_path / "c.json")  # fmt: skip
     assert len(synced) == 2  # control: interrupted between the two figures
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("option", "value"),
+    [("--speed", "nan"), ("--speed", "inf"), ("--speed", "-1"), ("--mass", "nan"),
+     ("--mass", "inf"), ("--mass", "-68.8"), ("--height", "nan"), ("--height", "-1.77"),
+     ("--threshold", "nan"), ("--threshold", "0")],
+)  # fmt: skip
+def test_calibrate_refuses_a_value_that_is_not_a_finite_positive_number_before_any_work(
+    falisse, tmp_path, capfd, monkeypatch, option, value
+):
+    """--speed nan was fitted and then failed writing JSON ("Out of range float values are
+    not JSON compliant: nan"); now it is the option's one line before the fit starts."""
+    import walk3d.calibration.calibrate as calibrate
+
+    def fit(*args, **kwargs):
+        raise ValueError("the fit started")
+
+    monkeypatch.setattr(calibrate, "calibrate_from_trial", fit)
+    from walk3d.cli import main
+
+    args = ["calibrate", "--ik", falisse / "gait_1_ik.mot", "--grf", falisse / "gait_1_grf.mot",
+            "--out", tmp_path / "c.json"]  # fmt: skip
+    with pytest.raises(SystemExit) as info:
+        main([*map(str, args), option, value])
+    lines = capfd.readouterr().err.strip().splitlines()
+    assert info.value.code == 2 and len(lines) == 1, lines
+    got = float(value)  # as typer parsed it: nan, inf, -1.0
+    assert lines[0] == f"walk3d: error: {option} must be a finite positive number, got {got}"
+    with pytest.raises(SystemExit) as info:  # control: a good value reaches the fit
+        main([*map(str, args), option, "1.2" if option != "--mass" else "68.8"])
+    err = capfd.readouterr().err
+    assert info.value.code == 2 and "the fit started" in err and option not in err, err
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("name", ["speed", "threshold"])
+def test_calibrate_from_trial_refuses_a_non_finite_value_first(tmp_path, name):
+    from walk3d.body.model import build_body
+    from walk3d.calibration.calibrate import calibrate_from_trial
+
+    with pytest.raises(ValueError, match=f"^{name} must be a finite positive number, got nan$"):
+        calibrate_from_trial(tmp_path / "no.mot", tmp_path / "no.mot", build_body(),
+                             tmp_path / "c.json", **{name: float("nan")})  # fmt: skip
+    with pytest.raises(FileNotFoundError):  # control: a good value goes on to read the files
+        calibrate_from_trial(tmp_path / "no.mot", tmp_path / "no.mot", build_body(),
+                             tmp_path / "c.json", **{name: 1.2})  # fmt: skip
+    assert list(tmp_path.iterdir()) == []

@@ -88,6 +88,16 @@ def test_a_bad_belt_speed_is_one_plain_line(pred_dir, tmp_path, falisse, speed, 
     assert not (tmp_path / "v").exists()
 
 
+@pytest.mark.parametrize("value", ["nan", "0"])
+def test_a_bad_threshold_is_one_line_naming_it(pred_dir, tmp_path, falisse, value):
+    """--threshold nan passed the check (nan <= 0 is false). Control: a good one validates."""
+    args = ["validate", pred_dir, "--reference", falisse / "cycle_right_leg_mean_sd.csv"]
+    r = _run(*args, "--threshold", value, "--out", tmp_path / "v")
+    _one_line_error(r, f"--threshold must be a finite positive number, got {float(value)}")
+    assert not (tmp_path / "v").exists()
+    assert _run(*args, "--threshold", "20", "--out", tmp_path / "v").returncode == 0
+
+
 def test_calibrate_bad_input(tmp_path, falisse):
     _one_line_error(
         _run("calibrate", "--ik", tmp_path / "no.mot", "--grf", falisse / "gait_1_grf.mot",

@@ -60,7 +60,11 @@ def calibrate_from_trial(
 ) -> CalibrationResult:
     """Calibrate ``body``'s subject from one trial; write ``out`` and its figures when given,
     all or none (built aside, then moved into place: :func:`walk3d.outputs.replace_files`;
-    OutputWriteError when they cannot be written)."""
+    OutputWriteError when they cannot be written). ValueError for a ``threshold`` or
+    ``speed`` that is not a finite positive number, before any work."""
+    for name, value in (("threshold", threshold), ("speed", speed)):
+        if value is not None and not 0 < value < float("inf"):
+            raise ValueError(f"{name} must be a finite positive number, got {value}")
     if out is not None:
         check_output_file(out, "out")
     ik_s = read_storage(ik)

@@ -188,6 +188,14 @@ def fail(message: str, code: int = 2) -> None:
     raise typer.Exit(code)
 
 
+def positive_options(**values: float | None) -> None:
+    """One line and exit 2 for the first option given that is not a finite number above zero
+    (``--speed nan``, ``--mass -1``); a keyword names its option (``mass``: ``--mass``)."""
+    for name, value in values.items():
+        if value is not None and not 0 < value < float("inf"):
+            fail(f"--{name.replace('_', '-')} must be a finite positive number, got {value}")
+
+
 def warned(func, *args, **kwargs):  # noqa: ANN001, ANN201 - passes func's result through
     """``func(*args, **kwargs)`` with every warning it raises printed as one line
     (``walk3d: warning: ...``) instead of Python's two-line form."""

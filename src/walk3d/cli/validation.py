@@ -18,6 +18,7 @@ from walk3d.cli.common import (
     check_output_file,
     console,
     fail,
+    positive_options,
 )
 
 
@@ -61,8 +62,7 @@ def validate(
         check_validation_folder(target, "--out")
     except ValueError as exc:
         fail(str(exc))
-    if threshold <= 0:
-        fail(f"--threshold must be positive, got {threshold}")
+    positive_options(threshold=threshold)
     try:
         with console.status("walk3d: validating"):
             v = run(
@@ -109,6 +109,7 @@ def calibrate(
     from walk3d.calibration.tables import calibration_table
     from walk3d.io.errors import DataFileError, OutputWriteError
 
+    positive_options(mass=mass, height=height, threshold=threshold, speed=speed)  # before work
     check_output_file(out)
     if sex not in ("male", "female"):
         fail(f"--sex must be 'male' or 'female', got {sex!r}")
