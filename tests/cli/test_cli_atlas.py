@@ -43,3 +43,29 @@ def test_atlas_without_its_command_shows_the_help_and_one_error_line(args, line)
                        text=True, timeout=60, env=os.environ | {"COLUMNS": "200"})  # fmt: skip
     assert r.returncode == 2 and r.stderr.strip().splitlines() == [line], r.stderr
     assert ("Usage: walk3d atlas" in r.stdout + r.stderr) == (args == ["atlas"])
+
+
+def test_atlas_build_prints_a_damaged_speed_warning_as_one_line(tmp_path, monkeypatch, capsys):
+    """A speed folder solved again warned in Python's two-line form (file, line, source);
+    now one 'walk3d: warning:' line as sweep prints it. Control: the build goes on and ends."""
+    import warnings
+
+    import walk3d.campaign.atlas as atlas
+    from walk3d.cli import main
+    from walk3d.problem.terms import DEFAULT_PRESET
+
+    def build(sex, preset, work, speeds, out, seed, progress):
+        warnings.warn(f"{work}/v_1.200 cannot be read (summary.json: invalid JSON): solving "
+                      "1.2 m/s again", RuntimeWarning, stacklevel=2)  # fmt: skip
+        return tmp_path / f"{sex}-{preset}.json", 2, 2
+
+    monkeypatch.setattr(atlas, "build_atlas", build)
+    with pytest.raises(SystemExit) as info:
+        main(["atlas", "build", "--work", str(tmp_path), "--sex", "male", "--criterion",
+              DEFAULT_PRESET, "--speeds", "1.2,1.4"])  # fmt: skip
+    out, err = capsys.readouterr()
+    assert info.value.code in (0, None) and "2 of 2 speeds walk" in out, err
+    assert err.strip().splitlines() == [
+        f"walk3d: warning: {tmp_path}/v_1.200 cannot be read (summary.json: invalid JSON): "
+        "solving 1.2 m/s again"
+    ]

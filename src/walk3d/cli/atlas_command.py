@@ -6,7 +6,7 @@ from typing import Annotated
 
 import typer
 
-from walk3d.cli.common import EXIT_WRITE, app, console, fail
+from walk3d.cli.common import EXIT_WRITE, app, console, fail, warning_lines
 from walk3d.problem.terms import DEFAULT_PRESET
 
 atlas_app = typer.Typer(no_args_is_help=True, help="The atlas of walk3d's own solutions that "
@@ -51,7 +51,7 @@ def build(
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
-                  console=console, transient=True) as bar:  # fmt: skip
+                  console=console, transient=True) as bar, warning_lines():  # fmt: skip
         for sx in sexes:
             for preset in presets:
                 task = bar.add_task(f"atlas {sx} {preset}", total=None)

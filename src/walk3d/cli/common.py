@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Annotated
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
@@ -194,6 +196,22 @@ def positive_options(**values: float | None) -> None:
     for name, value in values.items():
         if value is not None and not 0 < value < float("inf"):
             fail(f"--{name.replace('_', '-')} must be a finite positive number, got {value}")
+
+
+def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
+    sys.stderr.write(f"walk3d: warning: {' '.join(str(message).split())}\n")
+
+
+@contextmanager
+def warning_lines() -> Iterator[None]:
+    """In the block, each warning is printed once per place as it happens, as one line
+    (``walk3d: warning: ...``), not in Python's two-line form (a long run's, e.g. sweep's)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        warnings.showwarning = _warning_line
+        yield
 
 
 def warned(func, *args, **kwargs):  # noqa: ANN001, ANN201 - passes func's result through

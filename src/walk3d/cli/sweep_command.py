@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import sys
-import warnings
 from typing import Annotated
 
 import typer
@@ -23,6 +21,7 @@ from walk3d.cli.common import (
     console,
     fail,
     settings_from_options,
+    warning_lines,
 )
 from walk3d.problem.terms import DEFAULT_PRESET
 
@@ -69,9 +68,7 @@ def sweep(
     columns = (TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/"
                "{task.total} speeds"), TimeElapsedColumn())  # fmt: skip
     try:
-        with Progress(*columns, console=console, transient=True) as bar, warnings.catch_warnings():
-            warnings.simplefilter("default")  # each once per place, as it happens
-            warnings.showwarning = _warning_line
+        with Progress(*columns, console=console, transient=True) as bar, warning_lines():
             task = bar.add_task("walk3d sweep", total=len(values))
 
             def progress(message: str, done: int, total: int) -> None:
@@ -102,9 +99,3 @@ def sweep(
     )
     if not all(r["converged"] and r["looks_like_walking"] for r in report.rows):
         raise typer.Exit(1)
-
-
-def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
-    """Print a warning as one line, ``walk3d: warning: ...`` (a speed solved again), not
-    Python's two-line form."""
-    sys.stderr.write(f"walk3d: warning: {' '.join(str(message).split())}\n")
