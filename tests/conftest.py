@@ -22,9 +22,11 @@ PERIOD = 1.08
 
 @pytest.fixture(scope="session", autouse=True)
 def _model_cache_dir(tmp_path_factory):
-    """Keep the on-disk model cache (walk3d.solve.model_cache) of the tests out of the user's."""
+    """Keep the on-disk model cache (walk3d.solve.model_cache) of the tests out of the user's:
+    ``$WALK3D_TEST_CACHE_DIR`` (CI shares one across its test steps), else a new folder."""
     old = os.environ.get("WALK3D_CACHE_DIR")
-    os.environ["WALK3D_CACHE_DIR"] = str(tmp_path_factory.mktemp("model-cache"))
+    shared = os.environ.get("WALK3D_TEST_CACHE_DIR")
+    os.environ["WALK3D_CACHE_DIR"] = shared or str(tmp_path_factory.mktemp("model-cache"))
     yield
     if old is None:
         os.environ.pop("WALK3D_CACHE_DIR", None)
