@@ -187,6 +187,27 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
+MOMENTS = (
+    "Joint moments are internal moments as OpenSim's inverse dynamics reports them: each "
+    "coordinate's generalized force in N m per kg of body mass, positive when it would "
+    "drive the coordinate positive (hip flexor, knee flexor, ankle dorsiflexor). A "
+    "prediction's moments are the columns of its `inverse_dynamics.sto` "
+    "(`hip_flexion_r_moment`, `knee_angle_r_moment`, `ankle_angle_r_moment`) divided by its "
+    "body mass. A measured `knee_angle_moment` takes the sign of the knee angle "
+    "(gait2392-family models, this subject's included, are negative in flexion, so it "
+    "flips), Winter's extensor-positive moments flip, and storages in N m are divided by "
+    "the prediction's body mass (validate a prediction of the measured subject). Both sides "
+    "are read over the same 0–100 % from right heel strike. The sagittal hip, knee and "
+    "ankle rows (r and RMSE in N m/kg) are issue #41's moment figures: `python "
+    "benchmarks/realism.py` prints them for the Falisse prediction against the 11-trial "
+    "mean, trial `gait_1` and Winter. The shared yardstick `../shared/tools/realism.py` has "
+    "no moment rows; with its heel strike (0–1 sample later, docs/criteria.md) and its knee "
+    "sign, `inverse_dynamics.sto` gives the same numbers "
+    "(`tests/validation/test_moment_rows.py`)."
+)
+"""docs/validation.md's paragraph on the joint-moment rows."""
+
+
 def _document(args, d, cal, fit, floor, preds, comps, t3, rel, data) -> str:
     c = cal.calibration
     q = c.quality["rollover"]
@@ -252,6 +273,8 @@ def _document(args, d, cal, fit, floor, preds, comps, t3, rel, data) -> str:
         + (", ".join(f"[{g}]({rel}/prediction_{g}.png)" for g in ("grf", "moments", "angles"))
            if comps else "none yet") + ". walk3d ID of the measured motion: "
         + ", ".join(f"[{g}]({rel}/measured_{g}.png)" for g in ("grf", "moments", "angles")) + ".",
+        "",
+        MOMENTS,
         "",
         "## Table 3: criteria and their x/y/z split",
         "",
