@@ -65,6 +65,7 @@ def test_a_solve_builds_only_the_stages_it_runs():
     assert set(solver.stage_build_s) == {"nlp:balance", "balance:3", "nlp:full", "full:3"}
 
 
+@pytest.mark.solve
 def test_progress_reports_every_iteration_of_every_stage():
     settings = SETTINGS.replace(**{"posture_stage": "off"})
     messages: list[str] = []
