@@ -35,6 +35,7 @@ sin = _dispatch("sin", np.sin, ca.sin)
 cos = _dispatch("cos", np.cos, ca.cos)
 exp = _dispatch("exp", np.exp, ca.exp)
 fabs = _dispatch("fabs", np.abs, ca.fabs)
+asin = _dispatch("asin", np.arcsin, ca.asin)
 
 
 def fmax(a: Any, b: Any) -> Any:

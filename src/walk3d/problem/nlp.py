@@ -32,6 +32,7 @@ from walk3d.problem import layout, terms
 from walk3d.problem.criteria import POWER_SCALE_W, node_terms
 from walk3d.problem.derivatives import NlpPieces, NodeDerivs, derivative_functions
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
+from walk3d.problem.passive import active_state
 from walk3d.problem.schedule import (
     lifting_maps,
     loop_check_times,
@@ -118,11 +119,8 @@ def node_outputs(body: BodyModel, model: ModelSettings, st: GaitState):
                 (f[2] - mu * f[1]) / wf, (-f[2] - mu * f[1]) / wf]  # fmt: skip
 
     q_torso = st.torso_orientation
-    ball = [j for j in body.joints if j.kind == "ball"]
-    y_norms = []
-    for j in ball:
-        lo = sum(jj.n_dof for jj in body.joints[: body.joints.index(j)])
-        y_norms.append(lo)
+    y_norms = [sum(jj.n_dof for jj in body.joints[:k]) for k, j in enumerate(body.joints)
+               if j.kind == "ball"]  # fmt: skip
     g = (
         list(st.loop_position) + list(st.loop_orientation) + list(st.loop_velocity)
         + list(st.loop_omega) + list(st.other_points_y)
@@ -184,12 +182,12 @@ def node_function(
 
     With ``dynamics=False`` (first stage) both objective terms are the mean squared joint
     coordinate rate and acceleration (scaled by ω and ω²) plus the mean squared joint coordinate
-    (``sin(θ/2)``): the smoothest walking
-    posture sequence near upright standing, found without inverse dynamics. (Rates alone leave
-    constant offsets free, and the first stage then parked the arms at 70° of flexion.) With
-    ``with_hs=False`` the heel-strike wrench rows are constant zeros: only node 0 needs them.
-    ``balance=False`` (with ``dynamics=False``) also drops the total reaction: geometry only,
-    a cheap posture stage.
+    (``sin(θ/2)``): the smoothest walking posture sequence near upright standing, found without
+    inverse dynamics. (Rates alone leave constant offsets free, and the first stage then parked
+    the arms at 70° of flexion.) With ``with_hs=False`` the heel-strike wrench rows are constant
+    zeros: only node 0 needs them. ``balance=False`` (with ``dynamics=False``) also drops the
+    total reaction: geometry only, a cheap posture stage. ``model.passive``: the criterion sees
+    the active moments (:mod:`walk3d.problem.passive`).
     """
     y = ca.SX.sym("y", N_Y)
     w0 = ca.SX.sym("w0", 6)
@@ -200,6 +198,7 @@ def node_function(
     per_foot = per_foot_loads(model, dynamics, balance)
     share = (p[3], p[4], p[5]) if model.handover else None
     st = state_at(body, yl, w0l, hw, p[0], p[1], p[2], dynamics, balance, per_foot, share)
+    st = active_state(body, st, yl[:24]) if dynamics and model.passive else st
     g, f, starts = node_outputs(body, model, st)
     if not dynamics:
         n = layout.N_COORD
@@ -221,7 +220,8 @@ def node_function(
     extra = terms.extras(model.criterion)
     if dynamics and (extra or w_base != 1.0):
         k = criterion_row(model)
-        it = terms.integrands(body, _unpack_coords(yl, p[2]), st.pose, st.total[0])
+        moments = dof_moment_terms(body, st)[0]
+        it = terms.integrands(body, _unpack_coords(yl, p[2]), st.pose, st.total[0], moments)
         f[k] = w_base * f[k] + terms.weighted(extra, it) * row_scale(model)
     g += _support(body, model, st, per_foot)
     return ca.Function("walk3d_node", [y, w0, hw, p, t], [ca.vertcat(*g), ca.vertcat(*f)])

@@ -131,6 +131,9 @@ class ModelSettings(_Group):
     inverse dynamics needs no residual force there (docs/opensim.md). On by default so results
     replay in OpenSim; T and Td are still predicted with the paper's switch at heel strike, on
     which the criterion's weights were tuned (:mod:`walk3d.solve.landing`)."""
+    passive: bool = False
+    """Passive joint moments, range stops and damping (:mod:`walk3d.problem.passive`): C_tor and
+    the effort see the active part. Off: the paper's joints; then left out of the model keys."""
 
     @field_validator("criterion")
     @classmethod

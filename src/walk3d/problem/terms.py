@@ -27,7 +27,10 @@ scores about 1 per second on every term and weights near 1 give comparable contr
   against the legs cancel (the sagittal part dominates ``momentum``);
 * ``arms``: ``(1/8) Σ_i (2 q̈_i / 3 rad/s²)²`` over the shoulder and elbow DoFs, the arms'
   angular accelerations on the scale of a measured arm swing (it keeps the arms from swinging
-  at twice the stride frequency to offset the trunk's fore-aft ground reaction).
+  at twice the stride frequency to offset the trunk's fore-aft ground reaction);
+* ``effort``, ``effort3``: ``(1/24) Σ_i (u_i / ref)^p``, p = 2 and 3, ``u_i = |M_i| /
+  M_max,i(θ_i)`` the active joint moment over its angle-dependent strength
+  (:mod:`walk3d.problem.effort`; the moments are passed in, :func:`integrands`).
 
 Written on component tuples (:mod:`walk3d.mathops`): one code for the NLP nodes (CasADi) and
 the evaluated cycle (NumPy).
@@ -46,13 +49,13 @@ from walk3d.constants import G
 from walk3d.kinematics import fourier
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import Pose
-from walk3d.problem import layout
+from walk3d.problem import effort, layout
 
 BASES = ("tor", "en")
 """The paper's criteria; a weighted criterion holds exactly one of them (its absolute values
 are the exact slack variables of the NLP)."""
 EXTRAS = ("accel", "jerk", "head", "impact", "sag", "shear", "pose", "pelvis", "momentum",
-          "spin", "arms")  # fmt: skip
+          "spin", "arms", *effort.NAMES)  # fmt: skip
 """Terms that can be added to a base, in the order they are reported."""
 ACCEL_REF = 15.0
 """rad/s²: RMS joint angular acceleration over the DoFs of a measured adult (Falisse 2019
@@ -175,7 +178,11 @@ def _pose_targets(body: BodyModel) -> list[tuple[int, float]]:
 
 
 def integrands(
-    body: BodyModel, coords: list[tuple[Any, Any, Any]], pose: Pose, force: tuple[Any, Any, Any]
+    body: BodyModel,
+    coords: list[tuple[Any, Any, Any]],
+    pose: Pose,
+    force: tuple[Any, Any, Any],
+    moments: list[Any] | None = None,
 ) -> dict[str, tuple[Any, Any, Any]]:
     """Per term of :data:`EXTRAS`, its integrand split into ``(x, y, z)`` parts whose sum is the
     integrand (dimensionless, per s). ``accel`` and ``pose`` split by DoF axis as in
@@ -184,7 +191,8 @@ def integrands(
 
     ``coords``: the 26 coordinate triples (value, rate, acceleration) of
     :func:`walk3d.problem.gait.evaluate`; ``pose`` its kinematics; ``force`` the total ground
-    reaction, N."""
+    reaction, N; ``moments``: the 24 active DoF moments, N·m (the ``effort`` terms are left out
+    without them)."""
     zero = 0.0 * force[1]
     axes = [slot for j in body.joints for slot in j.dof_slots]
     acc = [zero, zero, zero]
@@ -215,9 +223,12 @@ def integrands(
     spin = (zero, (h[1] / (SPIN_REF * body.mass * body.height * 1.3)) ** 2, zero)
     w_p = pose.omega[body.segment_index("pelvis")]
     pelvis = tuple((w_p[k] / PELVIS_RATE_REF) ** 2 for k in range(3))
-    return {"accel": tuple(acc), "head": head, "impact": impact, "sag": sag, "shear": shear,
-            "pose": tuple(posture), "pelvis": pelvis, "momentum": momentum,
-            "spin": spin, "arms": tuple(arms)}  # fmt: skip
+    out = {"accel": tuple(acc), "head": head, "impact": impact, "sag": sag, "shear": shear,
+           "pose": tuple(posture), "pelvis": pelvis, "momentum": momentum,
+           "spin": spin, "arms": tuple(arms)}  # fmt: skip
+    if moments is not None:
+        out.update(effort.integrands(body, moments, [c[0] for c in coords[:24]], axes[:24]))
+    return out
 
 
 def _jerk_per_coefficient(period: float) -> np.ndarray:

@@ -21,6 +21,7 @@ from walk3d.kinematics.forward import point_triple, root_foot_triples, stack_q, 
 from walk3d.problem import layout, terms
 from walk3d.problem.criteria import node_terms, split_by_axis
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
+from walk3d.problem.passive import active_state
 from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.settings import PredictionSettings, ratios_for
 from walk3d.results.angles import ball_joint_angles
@@ -159,11 +160,13 @@ def evaluate_cycle(
         for k, side in enumerate(("r", "l")):
             force[idx, k] = stack_v(st.feet[side][0])
             mom_o[idx, k] = stack_v(st.feet[side][1])
-        m, w, axes = dof_moment_terms(body, st)
+        coords_b = [tuple(v[idx] for v in c) for c in coords]
+        q_b = [c[0] for c in coords_b[:24]]
+        act = active_state(body, st, q_b) if settings.model.passive else st  # criteria's moments
+        m, w, axes = dof_moment_terms(body, act)
         dof_m[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in m])
         dof_w[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in w])
-        coords_b = [tuple(v[idx] for v in c) for c in coords]
-        for name, parts in terms.integrands(body, coords_b, st.pose, st.total[0]).items():
+        for name, parts in terms.integrands(body, coords_b, st.pose, st.total[0], m).items():
             extra[name][idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in parts])
         ds = ph.double_support_mask(tb) & (
             ph.time_since_heel_strike(tb) <= settings.gait.double_support

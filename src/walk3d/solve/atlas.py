@@ -89,12 +89,13 @@ class AtlasStart:
 
 def settings_key(settings: PredictionSettings) -> dict:
     """What an atlas entry depends on besides speed: the model settings (criterion included),
-    the sex and the time grid. ``handover`` is left out when off, as in atlases made before
-    the setting existed (the same problem)."""
+    the sex and the time grid. ``handover`` and ``passive`` are left out when off, as in
+    atlases made before the settings existed (the same problem)."""
     model = settings.model.model_dump(mode="json")
     model["criterion"] = terms.preset_name(settings.model.criterion) or model["criterion"]
-    if not model["handover"]:
-        del model["handover"]
+    for flag in ("handover", "passive"):  # off: as in atlases made before the setting existed
+        if not model[flag]:
+            del model[flag]
     return {"sex": settings.gait.sex, "model": model, "nodes": settings.solver.nodes,
             "ds_intervals": descriptors.ds_intervals(settings.solver.nodes),
             "heel_strike_nodes": settings.solver.heel_strike_nodes}  # fmt: skip
@@ -152,7 +153,8 @@ def load_atlas(sex: str, preset: str, root: Path | None = None) -> Atlas | None:
 
 def _usable(atlas: Atlas, ref: PredictionSettings) -> str | None:
     """Why ``atlas`` cannot start ``ref`` (None: it can). An atlas of another criterion, or
-    solved with or without the handover, serves when everything else matches."""
+    solved with or without the handover or the passive joints, serves when everything else
+    matches."""
     if not atlas.current:
         return (f"the atlas {atlas.path.name} was made by solve revision {atlas.solve_revision}, "
                 f"not {SOLVE_REVISION}: rebuild it with `walk3d atlas build`")  # fmt: skip
@@ -161,6 +163,7 @@ def _usable(atlas: Atlas, ref: PredictionSettings) -> str | None:
     ours["model"]["criterion"] = theirs["model"].get("criterion")
     for key in (ours, theirs):
         key["model"].pop("handover", None)
+        key["model"].pop("passive", None)
     if theirs != ours:
         return f"the atlas {atlas.path.name} solves other model or grid settings"
     return None

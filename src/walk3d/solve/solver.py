@@ -200,7 +200,10 @@ def _model_key(body: BodyModel, model: ModelSettings) -> str:
     """The model cache key: the body and the model settings, all that
     :func:`walk3d.problem.nlp.model_functions` receives. The gait descriptors reach the node
     functions as node parameters, so one entry serves every V, T and Td of a body."""
-    return model_cache.model_key(model.model_dump(), body)
+    fields = model.model_dump()
+    if not fields["passive"]:  # off: the key of the models made before the setting existed
+        del fields["passive"]
+    return model_cache.model_key(fields, body)
 
 
 def _model_functions(

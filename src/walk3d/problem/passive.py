@@ -1,0 +1,73 @@
+"""Passive joint moments: exponential range stops plus damping (``ModelSettings.passive``, #41).
+
+``M_passive = k1 exp(k2 (θ − θ2)) + k3 exp(k4 (θ − θ1)) − d θ̇`` per DoF (Anderson & Pandy 1999
+form; parameters of PredSim ``default_coord_lim_torq_coeff.csv`` = 3dpredictsim
+``PassiveMomentsData.m``, docs/stance-model.md §2.2), in walk3d's anatomical signs on both sides.
+``θ = 2 asin(q)`` (exact for hinge and universal DoFs, the rotation vector's component for ball
+joints); ``θ̇`` is the DoF's angular rate (:func:`walk3d.problem.gait.dof_moment_terms`). With the
+setting on, C_tor and the effort see ``M_active = M − M_passive``; reported moments stay the net.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+from walk3d import mathops as mo
+from walk3d.body.model import BodyModel
+from walk3d.problem.gait import GaitState
+
+LIMIT_TORQUES: dict[str, tuple[float, float, float, float, float, float]] = {
+    "hip_flexion": (-2.44, 5.05, 1.51, -21.88, -0.6981, 1.81),
+    "hip_adduction": (-0.03, 14.94, 0.03, -14.94, -0.5, 0.5),
+    "hip_rotation": (-0.03, 14.94, 0.03, -14.94, -0.92, 0.92),
+    "knee_flexion": (-11.03, 11.33, 6.09, -33.94, -0.13, 2.4),
+    "ankle_dorsiflexion": (-2.03, 38.11, 0.18, -12.12, -0.74, 0.52),
+    "subtalar_inversion": (-60.21, 16.32, 60.21, -16.32, -0.65, 0.65),
+    "lumbar_extension": (-0.35, 30.72, 0.25, -20.36, -0.5236, 0.17),
+    "lumbar_bending": (-0.25, 20.36, 0.25, -20.36, -0.3491, 0.3491),
+    "lumbar_rotation": (-0.25, 20.36, 0.25, -20.36, -0.3491, 0.3491),
+}
+"""``(k1 N·m, k2 1/rad, k3 N·m, k4 1/rad, θ1 rad, θ2 rad)`` per DoF (side suffix dropped): PredSim
+a50fb31dba ``PreProcessing/default_coord_lim_torq_coeff.csv`` (Anderson & Pandy 1999 form).
+The knee is mapped from OpenSim's ``knee_angle`` (negative in flexion): ``θ = −knee_angle``, the
+moment negated, so the stops swap (``k1' = −k3``, ``k2' = −k4``, ``θ2' = −θ1``, and back)."""
+DAMPING = 0.1
+"""N·m·s/rad on each DoF of :data:`LIMIT_TORQUES` (PredSim's ``damping_coefficient_all_dofs``)."""
+
+
+def limit_moment(name: str, theta: Any) -> Any:
+    """The range-stop moment of DoF ``name`` (no side suffix) at angle ``θ`` (rad), N·m; 0 for
+    a DoF without a stop."""
+    if name not in LIMIT_TORQUES:
+        return 0.0 * theta
+    k1, k2, k3, k4, lo, hi = LIMIT_TORQUES[name]
+    return k1 * mo.exp(k2 * (theta - hi)) + k3 * mo.exp(k4 * (theta - lo))
+
+
+def passive_moments(body: BodyModel, values: list[Any], rates: list[Any]) -> list[Any]:
+    """Per DoF, the passive moment (N·m) from the coordinate values ``q`` and the DoF angular
+    rates (rad/s): range stop minus damping where :data:`LIMIT_TORQUES` has the DoF, else 0."""
+    out = []
+    for i, dof in enumerate(body.dof_names):
+        name = dof.removesuffix("_r").removesuffix("_l")
+        if name in LIMIT_TORQUES:
+            out.append(limit_moment(name, 2.0 * mo.asin(values[i])) - DAMPING * rates[i])
+        else:
+            out.append(0.0 * rates[i])
+    return out
+
+
+def active_state(body: BodyModel, st: GaitState, values: list[Any]) -> GaitState:
+    """``st`` with each DoF's moment replaced by its active part ``M − M_passive`` (the moments
+    about locked axes are unchanged); ``values``: the 24 joint coordinates ``q``."""
+    rates = [r for j in st.rates for r in j]
+    passive = passive_moments(body, values, rates)
+    moments, i = [], 0
+    for j, joint in enumerate(body.joints):
+        m = list(st.moments[j])
+        for slot in joint.dof_slots:
+            m[slot] = m[slot] - passive[i]
+            i += 1
+        moments.append(tuple(m))
+    return dataclasses.replace(st, moments=moments)
