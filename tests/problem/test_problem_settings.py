@@ -31,8 +31,10 @@ ADDED_SINCE = [
     "free",
     "start",
     "handover",
+    "passive",
 ]
-"""Fields added later (issues #23, #24, #25, #26), with defaults, so older files still load."""
+"""Fields added later (issues #23, #24, #25, #26, #41), with defaults, so older files still
+load."""
 
 
 def test_every_setting_belongs_to_exactly_one_group():
