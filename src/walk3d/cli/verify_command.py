@@ -52,7 +52,7 @@ def verify(
     try:
         check_timeout(timeout)
     except ValueError:
-        fail(f"--timeout must be a finite number of seconds, got {timeout}")
+        fail(f"--timeout must be a finite number of seconds up to 86400 (a day), got {timeout}")
     try:
         with console.status("walk3d: running OpenSim"):
             v = verify_folder(pred_dir, timeout=timeout)

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import importlib.util
 import json
-import math
 import os
 import subprocess
 import sys
@@ -65,10 +64,17 @@ class OpenSimMissing(RuntimeError):
         super().__init__(f"OpenSim's Python package is not installed: {INSTALL_HINT}")
 
 
+MAX_TIMEOUT_S = 86400.0
+
+
 def check_timeout(timeout: float) -> float:
-    """``timeout`` (s) if it is a finite positive number, else a one-line ValueError."""
-    if not (isinstance(timeout, (int, float)) and 0 < timeout < math.inf):
-        raise ValueError(f"the timeout must be a finite positive number of seconds, got {timeout}")
+    """``timeout`` (s) if positive and at most a day (OpenSim takes seconds; the operating
+    system's wait overflows above about 2.1e6 s), else a one-line ValueError."""
+    if not (isinstance(timeout, (int, float)) and 0 < timeout <= MAX_TIMEOUT_S):
+        raise ValueError(
+            f"the timeout must be a number of seconds above 0 and at most {MAX_TIMEOUT_S:g} "
+            f"(a day), got {timeout}"
+        )
     return float(timeout)
 
 
