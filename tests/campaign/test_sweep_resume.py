@@ -5,6 +5,7 @@ sweep.json is one line and exit code 2. The solves are scripted (no optimization
 import csv
 import json
 import re
+import shutil
 
 import numpy as np
 import pytest
@@ -128,7 +129,6 @@ def test_a_speed_folder_of_the_same_problem_is_resumed(tmp_path, solves, stored)
 @pytest.mark.parametrize(
     "damage",
     [lambda f: f.write_text(f.read_text()[:40]),  # truncated: the manifest's size is wrong
-     lambda f: f.unlink(),
      lambda f: (f.parent / MANIFEST).unlink()],
 )  # fmt: skip
 def test_a_damaged_speed_folder_is_solved_again_with_a_warning(tmp_path, solves, damage):
@@ -232,3 +232,52 @@ def test_cli_solves_a_truncated_speed_again_with_one_warning_line(tmp_path, solv
     code, err = _cli(capsys, "--speeds", "1.2,1.4", "--out", out)
     assert code == 0 and solves == [1.2] and "Traceback" not in "\n".join(err)
     assert len(err) == 1 and err[0].startswith("walk3d: warning:") and "v_1.200" in err[0]
+
+
+def _no_solve(monkeypatch):
+    """Make any solve or write fail the test: a refusal must come before both."""
+    import walk3d.pipeline
+
+    def fail(*args, **kwargs):
+        raise AssertionError("a solve or write started")
+
+    monkeypatch.setattr(walk3d.pipeline, "predict", fail)
+    monkeypatch.setattr(walk3d.pipeline, "write_result", fail)
+
+
+@pytest.mark.parametrize(
+    ("make", "words"),
+    [(lambda f: f.write_text("mine\n"), "v_1.200 is an existing file"),
+     (lambda f: (f.mkdir(), (f / "thesis.txt").write_text("mine\n")), "folder of other files"),
+     (lambda f: (shutil.rmtree(f.parent), f.parent.write_text("mine\n")), "speeds is a file"),
+     (lambda f: (write_fake(Fake(fake_summary(SETTINGS)), f), (f / "summary.json").unlink()),
+      "no summary.json")],
+    ids=["file", "thesis", "speeds-file", "no-summary"],
+)  # fmt: skip
+def test_a_speed_path_walk3d_did_not_write_is_refused_before_any_solve(
+    tmp_path, solves, monkeypatch, capsys, make, words
+):
+    """They were solved (after 'solving again'), then the write traced back; now exit 2, one
+    line, nothing solved and the user's file kept."""
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, SPEEDS[1:], out)  # sweep.json and speeds/v_1.400
+    folder = speed_folder(out, 1.2)
+    make(folder)
+    before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    _no_solve(monkeypatch)
+    with pytest.raises(SweepMismatch, match=re.escape(words)) as info:
+        run_sweep(SETTINGS, SPEEDS, out)
+    assert "\n" not in str(info.value)
+    code, err = _cli(capsys, "--speeds", "1.2,1.4", "--out", out)
+    assert code == 2 and len(err) == 1 and words in err[0], err
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+
+
+def test_an_empty_speed_folder_is_solved(tmp_path, solves):
+    """Negative control: an empty folder (or none) at a speed is written, not refused."""
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, SPEEDS[1:], out)
+    speed_folder(out, 1.2).mkdir()
+    solves.clear()
+    with pytest.warns(RuntimeWarning, match="solving 1.2 m/s again"):
+        assert run_sweep(SETTINGS, SPEEDS, out).ran == 1 and solves[0] == 1.2

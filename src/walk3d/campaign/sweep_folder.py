@@ -6,7 +6,9 @@ before any solve (:mod:`walk3d.campaign.sweep` has the layout).
 * a speed folder that is damaged (incomplete, or a summary that cannot be read): solved again,
   with a warning. walk3d writes each speed atomically, so such a folder holds no usable work;
 * a speed folder holding a readable prediction of another problem (another speed, subject or
-  criterion...): refused, not replaced, since it may be someone's result put there by mistake.
+  criterion...): refused, not replaced, since it may be someone's result put there by mistake;
+* a speed path walk3d could not write its result to (a file, a folder of other files, a
+  ``speeds`` that is a file): refused, so that no solve is run whose result would be lost.
 """
 
 from __future__ import annotations
@@ -96,8 +98,13 @@ def stored(
     doc: damaged ones are left out with a warning, another problem's raise
     :class:`SweepMismatch`). ``usable(summary)`` raises KeyError, ValueError or TypeError for
     a summary the sweep cannot tabulate."""
-    from walk3d.results.prediction import check_complete
+    from walk3d.results.prediction import check_complete, check_result_folder
 
+    for v in map(float, speeds):  # every path first: a refusal comes before any solve
+        try:
+            check_result_folder(speed_folder(out, v), "speed folder")
+        except ValueError as exc:
+            raise SweepMismatch(f"cannot write that speed's result: {exc}") from None
     found: dict[int, dict] = {}
     for i, v in enumerate(map(float, speeds)):
         folder = speed_folder(out, v)
