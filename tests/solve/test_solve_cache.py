@@ -171,8 +171,9 @@ def test_model_functions_read_only_the_model_settings_of_the_key(recorded):
     fns, read = recorded
     assert set(fns) == {"loop"} | {nlp._node_name(d, b, h) for d, b in nlp.STAGES.values()
                                    for h in (True, False)}  # fmt: skip
+    # passive is in the key when on; off, it is left out and the functions are those before it
     assert read == {"absolute", "balance_split", "cop_margin", "criterion", "free_moment_radius",
-                    "friction", "handover", "smoothing"}  # fmt: skip
+                    "friction", "handover", "passive", "smoothing"}  # fmt: skip
     # the model's other fields shape the body (calibrated roll-over) or the NLP's bounds and
     # heel-strike map, not these functions: in the key, they cost a rebuild when changed
     assert read < set(ModelSettings.model_fields)
