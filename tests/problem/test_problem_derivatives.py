@@ -30,13 +30,14 @@ def _dense(m) -> np.ndarray:
     ("dynamics", "balance", "extra"),
     [
         # the full stage with every optional row: loop checks, calibrated heel-strike map
-        (
+        pytest.param(
             True,
             True,
             {"criterion": "en", "loop_checks": 1, "transition_ratios": (0.2, 0.05, 0.1, 0.3)},
+            marks=pytest.mark.model,
         ),
         # a weighted criterion: every extra term in the objective row
-        (
+        pytest.param(
             True,
             True,
             {
@@ -45,6 +46,7 @@ def _dense(m) -> np.ndarray:
                 "heel_strike_nodes": 2,
                 "cop_margin": 0.02,
             },
+            marks=pytest.mark.model,
         ),
         (False, True, {}),
         (False, False, {}),
