@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -55,3 +56,28 @@ def test_bad_cycle_table(tmp_path: Path, falisse: Path) -> None:
     path.write_text("\n".join(lines[:50] + [lines[50][:40]]) + "\n")
     with pytest.raises(DataFileError, match=r"^bad\.csv:51: expected 71 values"):
         read_cycle_table(path)
+
+
+@pytest.mark.parametrize(
+    ("column", "value", "words"),
+    [("hip_flexion_deg_mean", "1e300", "beyond ±1e+06"),
+     ("hip_flexion_deg_mean", "-2e6", "beyond ±1e+06"),
+     ("hip_flexion_deg_sd", "-5", "negative SD")],
+)  # fmt: skip
+def test_absurd_values_and_negative_sd_are_refused(tmp_path, falisse, column, value, words):
+    """A column of ±1e300 was scored with overflow warnings and RMSE inf marked 'ok'; a
+    negative SD was shown as the reference SD."""
+    lines = (falisse / "cycle_right_leg_mean_sd.csv").read_text().splitlines()
+    k = lines[0].split(",").index(column)
+    path = tmp_path / "bad.csv"
+    for v, refused in ((value, True), ("999999" if "mean" in column else "0", False)):
+        cells = lines[7].split(",")
+        path.write_text("\n".join([*lines[:7], ",".join([*cells[:k], v, *cells[k + 1 :]]),
+                                   *lines[8:]]) + "\n")  # fmt: skip
+        if refused:
+            with pytest.raises(DataFileError, match=rf"^bad\.csv:8: value '{v}' in {column}"):
+                read_cycle_table(path)
+            with pytest.raises(DataFileError, match=re.escape(words)):
+                read_cycle_table(path)
+        else:  # control: a large but bounded mean, a zero SD
+            assert read_cycle_table(path).column(column[: column.rindex("_")])[0].size > 50

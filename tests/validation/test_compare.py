@@ -167,3 +167,26 @@ def test_r_squared_is_one_for_a_perfect_fit_and_zero_for_the_mean():
     assert abs(r_squared(np.full_like(m, m.mean()), m)) < 1e-12
     assert r_squared(m + 1.0, m) < 0  # an offset explains less than the mean does
     assert np.isnan(r_squared(m, np.ones_like(m)))  # a flat reference has no variance
+
+
+def test_a_constant_column_is_not_ok_but_says_why(synthetic_prediction, falisse, tmp_path):
+    """A table whose hip flexion is 10 everywhere gave a row 'ok' with r and R² NaN."""
+    lines = (falisse / "cycle_right_leg_mean_sd.csv").read_text().splitlines()
+    k = lines[0].split(",").index("hip_flexion_deg_mean")
+    rows = [lines[0]] + [",".join(c[:k] + ["10"] + c[k + 1 :]) for c in
+                         (line.split(",") for line in lines[1:])]  # fmt: skip
+    (tmp_path / "c.csv").write_text("\n".join(rows) + "\n")
+    ref = reference_from_table(read_cycle_table(tmp_path / "c.csv"), mass=62.0)
+    row = compare(synthetic_prediction, ref).row("angle:hip_flexion")
+    assert row.status == "constant reference" and np.isnan(row.r) and np.isnan(row.r2)
+    flat = _self_reference(synthetic_prediction)
+    flat.mean["angle:knee_flexion"] = flat.mean["angle:knee_flexion"] + np.arange(101.0)
+    comp = compare(synthetic_prediction, flat)
+    for row in comp.rows:
+        p = comp.predicted.get(row.quantity.key)
+        if row.status == "ok":  # control: every ok row has its scores
+            assert np.isfinite(row.r) and np.isfinite(row.r2), row.quantity.key
+        elif p is not None and np.ptp(p) == 0:
+            assert row.status == "constant prediction", row.quantity.key
+    assert comp.row("angle:knee_flexion").status == "ok"
+    assert compare(synthetic_prediction, ref).row("angle:knee_flexion").status == "ok"

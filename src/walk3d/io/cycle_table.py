@@ -27,13 +27,16 @@ import numpy as np
 from walk3d.io.checks import increasing
 from walk3d.io.errors import DataFileError
 
-__all__ = ["COVERAGE", "MIN_ROWS", "CycleTable", "read_cycle_table"]
+__all__ = ["COVERAGE", "MAX_ABS_VALUE", "MIN_ROWS", "CycleTable", "read_cycle_table"]
 
 _PERCENT_NAMES = {"percent_cycle", "percent", "%gait cycle", "% gait cycle", "gait_cycle_percent"}
 MIN_ROWS = 11
 """Fewest rows of a cycle table: one every 10 % of the cycle (fewer is no measured curve)."""
 COVERAGE = (5.0, 95.0)
 """The percent column must start at or before the first and end at or after the second."""
+MAX_ABS_VALUE = 1e6
+"""Largest magnitude of a cell: far above any gait angle (deg), moment (N m/kg or N m), force
+(N/kg or N) or power; a larger value is a unit or export error, and squared it overflows."""
 _UNIT_SUFFIXES = ("Nm_per_kg", "N_per_kg", "W_per_kg", "deg", "rad", "m_per_s", "m", "N", "Nm")
 
 
@@ -103,6 +106,10 @@ def _to_float(path: Path, line: int, cell: str, what: str) -> float:
         raise DataFileError(path, f"value {cell!r} in {what} is not a number", line) from None
     if not math.isfinite(value):
         raise DataFileError(path, f"value {cell!r} in {what} is not finite", line)
+    if abs(value) > MAX_ABS_VALUE:
+        raise DataFileError(path, f"value {cell!r} in {what} is beyond ±{MAX_ABS_VALUE:g}", line)
+    if value < 0 and what.endswith("_sd"):
+        raise DataFileError(path, f"value {cell!r} in {what} is a negative SD", line)
     return value
 
 
@@ -195,9 +202,10 @@ def read_cycle_table(path: str | PathLike[str]) -> CycleTable:
     """Read a cycle-table CSV (wide mean/SD or Winter layout, see the module doc).
 
     Raises:
-        DataFileError: No recognisable header, a row of the wrong length, a non-number or a
-            non-finite value; or no gait cycle (:func:`_cycle`): too few rows, the percent not
-            increasing over 0-100 %, every column constant.
+        DataFileError: No recognisable header, a row of the wrong length, a non-number, a
+            non-finite value, one beyond :data:`MAX_ABS_VALUE` or a negative SD; or no gait
+            cycle (:func:`_cycle`): too few rows, the percent not increasing over 0-100 %,
+            every column constant.
     """
     path = Path(path)
     try:

@@ -12,7 +12,8 @@ strike is where the right foot's vertical force first rises above 20 N.
 Scores, per quantity, over the 101 samples: RMSE between prediction and reference mean, and
 Pearson's correlation coefficient ``r`` (NaN when either series is constant). A quantity missing
 on either side is kept as a row with status ``missing in reference`` / ``missing in
-prediction`` and NaN scores, never dropped.
+prediction`` and NaN scores, never dropped; one whose r or R² cannot be computed has status
+``constant reference`` or ``constant prediction`` (never ``ok``).
 """
 
 from __future__ import annotations
@@ -38,7 +39,8 @@ class Row:
     rmse: float
     r: float
     status: str
-    """``ok``, ``missing in reference`` or ``missing in prediction``."""
+    """``ok``, ``missing in reference``, ``missing in prediction``, or ``constant reference`` /
+    ``constant prediction`` when r or R² cannot be computed."""
     reference_sd: float
     """Mean SD of the reference over the cycle (NaN when unknown): the scale of the measured
     variability against which the RMSE can be read."""
@@ -141,6 +143,12 @@ def compare(pred: Prediction, reference: Reference, name: str = "prediction") ->
         sd = reference.sd.get(q.key)
         sd_mean = float(np.nanmean(sd)) if sd is not None and np.isfinite(sd).any() else np.nan
         span = float(np.nanmax(m) - np.nanmin(m)) if np.isfinite(m).any() else np.nan
-        rows.append(Row(q, rmse(p, m), _pearson(p, m), "ok", sd_mean,
-                        reference.n_cycles.get(q.key), span, r_squared(p, m)))  # fmt: skip
+        r, r2 = _pearson(p, m), r_squared(p, m)
+        status = (
+            "ok"
+            if np.isfinite(r) and np.isfinite(r2)
+            else ("constant prediction" if np.isfinite(r2) else "constant reference")
+        )
+        rows.append(Row(q, rmse(p, m), r, status, sd_mean,
+                        reference.n_cycles.get(q.key), span, r2))  # fmt: skip
     return Comparison(name, reference, percent, predicted, tuple(rows))
