@@ -101,3 +101,36 @@ def test_a_summary_of_invalid_utf8_is_refused(copy):
     _refused(copy, "summary.json", "UTF-8")
     replace_result_file(copy, "summary.json", b"[]")
     _refused(copy, "summary.json", "not an object")
+
+
+def _time_first(folder, keep) -> dict[str, np.ndarray]:
+    """Every array whose first axis is time, cut to the samples ``keep``."""
+    with np.load(folder / "result.npz") as data:
+        n = data["time"].size
+        return {k: data[k][keep] for k in data.files if data[k].ndim and data[k].shape[0] == n}
+
+
+@pytest.mark.parametrize(
+    ("change", "words"),
+    [(lambda t: {"time": t[::-1].copy()}, "time is not increasing"),
+     (lambda t: {"time": np.zeros_like(t)}, "time is not increasing"),
+     ("one", "time holds 1 samples"), ("two", "time holds 2 samples"),
+     ("ten", "time holds 10 samples")],
+    ids=["reversed", "zeros", "one", "two", "ten"],
+)  # fmt: skip
+def test_a_time_axis_that_is_not_a_cycle_is_refused(copy, change, words):
+    """They were read, reported, animated and validated (r = NaN marked 'ok'), exit 0."""
+    with np.load(copy / "result.npz") as data:
+        time = data["time"]
+    if callable(change):
+        arrays = change(time)
+    else:
+        arrays = _time_first(copy, slice(0, {"one": 1, "two": 2, "ten": 10}[change]))
+    replace_result_file(copy, "result.npz", _npz(copy, **arrays))
+    _refused(copy, "result.npz", words)
+
+
+def test_eleven_increasing_samples_are_a_cycle(copy):
+    """Negative control: the fewest samples accepted (walk3d writes 101)."""
+    replace_result_file(copy, "result.npz", _npz(copy, **_time_first(copy, slice(0, 11))))
+    assert load_result(copy).n_nodes == 11

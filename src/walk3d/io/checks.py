@@ -29,6 +29,7 @@ __all__ = [
     "read_npz",
     "read_xml",
     "require_finite",
+    "time_samples",
 ]
 
 
@@ -151,3 +152,19 @@ def increasing(path: str | PathLike[str], name: str, values: Iterable[float]) ->
         raise DataFileError(path, f"{name} is not increasing: {arr[k]:g} then {arr[k + 1]:g} "
                             f"(rows {k + 1} and {k + 2})")  # fmt: skip
     return arr
+
+
+MIN_TIME_SAMPLES = 11
+"""Fewest samples of a stored cycle: one every 10 % (walk3d writes 101); fewer is no motion."""
+
+
+def time_samples(path: str | PathLike[str], values: Any, name: str = "time") -> np.ndarray:
+    """``values``, a 1-D time axis of :data:`MIN_TIME_SAMPLES` or more finite, strictly
+    increasing samples, else one DataFileError line."""
+    arr = np.asarray(values)
+    if arr.ndim != 1:
+        raise DataFileError(path, f"{name} has shape {arr.shape}, not one axis of samples")
+    if arr.size < MIN_TIME_SAMPLES:
+        raise DataFileError(path, f"{name} holds {arr.size} samples: a cycle needs "
+                            f"{MIN_TIME_SAMPLES} or more")  # fmt: skip
+    return increasing(path, name, arr)

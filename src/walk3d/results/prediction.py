@@ -48,7 +48,13 @@ import numpy as np
 from walk3d import outputs
 from walk3d.body.model import BodyModel
 from walk3d.io._atomic import atomic_folder, atomic_write_bytes, atomic_write_text
-from walk3d.io.checks import plain_file_name, read_json_object, read_npz, require_finite
+from walk3d.io.checks import (
+    plain_file_name,
+    read_json_object,
+    read_npz,
+    require_finite,
+    time_samples,
+)
 from walk3d.io.errors import DataFileError
 from walk3d.io.osim import write_osim
 from walk3d.results.inverse_dynamics import write_inverse_dynamics
@@ -337,8 +343,9 @@ def load_result(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> P
 
     Raises:
         DataFileError: the folder is incomplete (:func:`check_complete`), ``result.npz`` is
-            damaged, lacks an array or holds NaN or infinite values (NaN centres of pressure
-            aside), or ``summary.json`` is not a JSON object.
+            damaged, lacks an array, holds NaN or infinite values (NaN centres of pressure
+            aside) or a ``time`` that is not a cycle (:func:`~walk3d.io.checks.time_samples`:
+            fewer than 11 samples, not increasing), or ``summary.json`` is not a JSON object.
     """
     check_complete(out_dir, remade)
     out = Path(out_dir)
@@ -359,6 +366,8 @@ def load_result(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> P
             if arr.dtype.kind != "b":
                 raise DataFileError(npz_path, f"{f.name} is not an array of booleans")
             values[f.name] = arr
+        elif f.name == "time":
+            values[f.name] = time_samples(npz_path, arr)
         else:  # the centres of pressure are NaN while a foot is in the air
             arr = require_finite(npz_path, f.name, arr, allow_nan=f.name == "grf_cop")
             values[f.name] = np.radians(arr) if f.name == "joint_angle" else arr
