@@ -77,7 +77,11 @@ def test_unknown_reference_and_missing_inputs(pred_dir, tmp_path):
 
 @pytest.mark.parametrize(
     ("speed", "words"),
-    [("nan", "speed must be a finite number, got nan"), ("-1", "speed must be in (0, 4] m/s")],
+    [
+        ("nan", "--speed must be a finite positive number, got nan"),
+        ("-1", "--speed must be a finite positive number, got -1.0"),
+        ("9", "speed must be in (0, 4] m/s"),
+    ],  # fmt: skip
 )
 def test_a_bad_belt_speed_is_one_plain_line(pred_dir, tmp_path, falisse, speed, words):
     """The settings' check, not pydantic's multi-line error with its web link."""
@@ -86,6 +90,30 @@ def test_a_bad_belt_speed_is_one_plain_line(pred_dir, tmp_path, falisse, speed, 
     _one_line_error(r, words)
     assert "pydantic" not in r.stderr and "validation error" not in r.stderr
     assert not (tmp_path / "v").exists()
+
+
+@pytest.mark.parametrize("speed", ["nan", "inf", "-1", "0"])
+def test_a_bad_speed_is_refused_with_a_cycle_table_too(pred_dir, tmp_path, falisse, speed):
+    """--speed nan was ignored (exit 0) when the reference is a cycle table."""
+    args = ["validate", pred_dir, "--reference", falisse / "cycle_right_leg_mean_sd.csv"]
+    r = _run(*args, "--speed", speed, "--out", tmp_path / "v")
+    _one_line_error(r, "--speed must be a finite positive number")
+    assert not (tmp_path / "v").exists()
+
+
+@pytest.mark.parametrize("keyword", ["threshold", "speed"])
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), 0.0, -1.0])
+def test_the_library_checks_threshold_and_speed_too(
+    synthetic_prediction, tmp_path, falisse, keyword, value
+):
+    """validate(threshold=nan) with a cycle table raised nothing; the CLI refused it."""
+    from walk3d.validation.run import validate
+
+    table = [falisse / "cycle_right_leg_mean_sd.csv"]
+    with pytest.raises(ValueError, match=f"^{keyword} must be a finite positive number"):
+        validate({"p": synthetic_prediction}, table, tmp_path / "v", **{keyword: value})
+    assert not (tmp_path / "v").exists()
+    assert validate({"p": synthetic_prediction}, table, figures=False, speed=1.2).table2  # control
 
 
 @pytest.mark.parametrize("value", ["nan", "0"])

@@ -30,6 +30,7 @@ from walk3d.calibration.fit import (
     fit_transition,
 )
 from walk3d.io.calibration import read_calibration, write_calibration
+from walk3d.io.checks import positive_numbers
 from walk3d.io.storage import read_storage
 from walk3d.outputs import check_output_file, replace_files, write_errors
 from walk3d.trials.descriptors import descriptors_from_trial, foot_loads
@@ -62,9 +63,7 @@ def calibrate_from_trial(
     all or none (built aside, then moved into place: :func:`walk3d.outputs.replace_files`;
     OutputWriteError when they cannot be written). ValueError for a ``threshold`` or
     ``speed`` that is not a finite positive number, before any work."""
-    for name, value in (("threshold", threshold), ("speed", speed)):
-        if value is not None and not 0 < value < float("inf"):
-            raise ValueError(f"{name} must be a finite positive number, got {value}")
+    positive_numbers(threshold=threshold, speed=speed)
     if out is not None:
         check_output_file(out, "out")
     ik_s = read_storage(ik)

@@ -193,9 +193,13 @@ def fail(message: str, code: int = 2) -> None:
 def positive_options(**values: float | None) -> None:
     """One line and exit 2 for the first option given that is not a finite number above zero
     (``--speed nan``, ``--mass -1``); a keyword names its option (``mass``: ``--mass``)."""
+    from walk3d.io.checks import positive_numbers  # the library's check, named as an option
+
     for name, value in values.items():
-        if value is not None and not 0 < value < float("inf"):
-            fail(f"--{name.replace('_', '-')} must be a finite positive number, got {value}")
+        try:
+            positive_numbers(**{name: value})
+        except ValueError as exc:
+            fail(f"--{name.replace('_', '-')}{str(exc)[len(name) :]}")
 
 
 def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001

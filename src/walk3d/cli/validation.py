@@ -53,6 +53,7 @@ def validate(
     from walk3d.validation.run import validate as run
     from walk3d.validation.tables import table2, table3
 
+    positive_options(threshold=threshold, speed=speed)  # whatever the references
     try:
         pred = load_result(pred_dir)  # the reader of walk3d verify, report and animate
     except (OSError, ValueError) as exc:
@@ -62,7 +63,6 @@ def validate(
         check_validation_folder(target, "--out")
     except ValueError as exc:
         fail(str(exc))
-    positive_options(threshold=threshold)
     try:
         with console.status("walk3d: validating"):
             v = run(

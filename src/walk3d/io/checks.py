@@ -11,6 +11,7 @@ from __future__ import annotations
 import io
 import json
 import math
+import numbers
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable
 from os import PathLike
@@ -25,6 +26,7 @@ __all__ = [
     "finite_number",
     "increasing",
     "plain_file_name",
+    "positive_numbers",
     "read_json_object",
     "read_npz",
     "read_xml",
@@ -168,3 +170,12 @@ def time_samples(path: str | PathLike[str], values: Any, name: str = "time") -> 
         raise DataFileError(path, f"{name} holds {arr.size} samples: a cycle needs "
                             f"{MIN_TIME_SAMPLES} or more")  # fmt: skip
     return increasing(path, name, arr)
+
+
+def positive_numbers(**values: float | None) -> None:
+    """Raise a one-line ValueError naming the first keyword whose value is given (not None)
+    but is not a finite number above zero (``speed=nan``, ``threshold=-1``)."""
+    for name, value in values.items():
+        real = isinstance(value, numbers.Real) and not isinstance(value, bool)
+        if value is not None and not (real and 0 < value < math.inf):
+            raise ValueError(f"{name} must be a finite positive number, got {value!r:.40}")

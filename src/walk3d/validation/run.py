@@ -28,6 +28,7 @@ from typing import Any
 
 from walk3d.body.model import build_body
 from walk3d.io._atomic import atomic_folder
+from walk3d.io.checks import positive_numbers
 from walk3d.io.cycle_table import read_cycle_table
 from walk3d.io.storage import read_storage
 from walk3d.io.tables import write_csv_table
@@ -176,7 +177,9 @@ def validate(
     temporary sibling, then in place of an earlier validation there (a folder with other files
     is refused with ValueError before any work; OutputWriteError when it cannot be written).
     ``forward`` is the lab axis the walker faces in C3D references (``"-y"``...; detected when
-    None)."""
+    None). ValueError for a ``threshold`` or ``speed`` that is not a finite positive number,
+    whatever the references, before any work."""
+    positive_numbers(threshold=threshold, speed=speed)
     if not predictions:
         raise ValueError("no prediction to validate")
     if out_dir is not None:
