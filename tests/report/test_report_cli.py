@@ -40,8 +40,8 @@ def test_cli_without_measured_data_still_writes_the_page(fresh_folder, tmp_path)
 
 def test_cli_makes_a_deleted_report_again(fresh_folder, tmp_path):
     """report.html listed in the manifest, then deleted: the folder was refused as incomplete;
-    like walk3d animate for its video, report makes the view again. Control: another view
-    deleted (summary.png) still makes the folder incomplete."""
+    like walk3d animate for its video, report makes the view again. Control: another listed
+    view deleted (animation.mp4) still makes the folder incomplete."""
     assert _report(fresh_folder).returncode == 0
     (fresh_folder / "report.html").unlink()
     r = _report(fresh_folder)
@@ -51,13 +51,37 @@ def test_cli_makes_a_deleted_report_again(fresh_folder, tmp_path):
     assert write_report(fresh_folder, data="/none")[1] == fresh_folder / "report.html"  # API
     other = tmp_path / "other"
     shutil.copytree(fresh_folder, other)
-    (other / "summary.png").write_bytes(b"png")
     files = json.loads((other / "manifest.json").read_text())
-    files["files"]["summary.png"] = 3
+    files["files"]["animation.mp4"] = 3
     (other / "manifest.json").write_text(json.dumps(files))
-    (other / "summary.png").unlink()
     r = _report(other)
-    assert r.returncode == 2 and "summary.png is missing" in r.stderr, r.stderr
+    assert r.returncode == 2 and "animation.mp4 is missing" in r.stderr, r.stderr
+
+
+def test_a_deleted_summary_png_is_accepted_by_every_reader(fresh_folder, tmp_path):
+    """summary.png, listed then deleted, made the folder unusable (exit 2 'incomplete') though
+    no command reads it; report, animate and validate read it now. Control above."""
+    from walk3d.results.prediction import load_result
+
+    folder = shutil.copytree(fresh_folder, tmp_path / "r")
+    files = json.loads((folder / "manifest.json").read_text())
+    files["files"]["summary.png"] = 3
+    (folder / "manifest.json").write_text(json.dumps(files))
+    check_complete(folder)
+    assert load_result(folder).n_nodes > 10  # what validate, verify and animate read
+    r = _report(folder, "--out", tmp_path / "x" / "new" / "r.html")  # F: a missing folder made
+    assert r.returncode == 0 and (tmp_path / "x" / "new" / "r.html").is_file(), r.stderr
+    assert not (folder / "summary.png").exists()
+
+
+def test_report_out_that_cannot_be_written_names_the_page(fresh_folder, tmp_path):
+    """It named a hidden temporary file, or gave '[Errno 2]' alone; now exit 3 naming --out."""
+    (tmp_path / "ro").mkdir()
+    (tmp_path / "ro" / "f").write_text("a file")
+    r = _report(fresh_folder, "--out", tmp_path / "ro" / "f" / "r.html")
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode in (2, 3) and len(lines) == 1 and "Traceback" not in r.stderr, r.stderr
+    assert str(tmp_path / "ro" / "f" / "r.html") in lines[0] and ".tmp" not in lines[0], lines
 
 
 @pytest.mark.parametrize("case", ["missing", "neither", "no_manifest", "bad_out", "bad_data"])

@@ -93,6 +93,9 @@ VIEW_FILES = ("summary.png", "animation.mp4", "report.html")
 size may lag a rewrite that ended before the manifest was updated, so only their presence is
 checked."""
 
+UNREAD_VIEWS = ("summary.png",)
+"""Views no command reads or embeds: a deleted one is accepted (:func:`check_complete`)."""
+
 MANIFEST = "manifest.json"
 """Written last into a result folder: every file's name and size in bytes."""
 
@@ -274,8 +277,8 @@ def save_prediction(
 def check_complete(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> None:
     """Raise :class:`DataFileError` unless ``out_dir`` is a complete result folder: its
     ``manifest.json`` is readable and every file it lists is there with the listed size (for
-    :data:`VIEW_FILES`, only there; the views in ``remade``, about to be made again, may be
-    missing)."""
+    :data:`VIEW_FILES`, only there; the views in ``remade``, about to be made again, and the
+    :data:`UNREAD_VIEWS` may be missing)."""
     out = Path(out_dir)
     path = out / MANIFEST
     if not out.is_dir():
@@ -293,7 +296,8 @@ def check_complete(out_dir: str | PathLike[str], remade: Collection[str] = ()) -
             raise DataFileError(path, f"the size of {name} is {size!r:.40}, not a byte count")
     for name in (*RESULT_FILES, *files):
         f = out / name
-        if not f.is_file() and not (name in remade and name in VIEW_FILES):
+        optional = name in VIEW_FILES and (name in remade or name in UNREAD_VIEWS)
+        if not f.is_file() and not optional:
             raise DataFileError(out, f"incomplete result folder: {name} is missing")
         if name in files and name not in VIEW_FILES and f.stat().st_size != files[name]:
             raise DataFileError(
