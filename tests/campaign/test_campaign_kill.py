@@ -12,12 +12,12 @@ from walk3d.campaign import store
 
 pytestmark = pytest.mark.campaign
 
-STARTS = 6
+STARTS = 4
 
 
 def _command(out):
     options = f"--starts {STARTS} --seed 3 --workers 2 --nodes 6 --max-iter 3 --restarts 0".split()
-    options += ["--criterion", "tor"]
+    options += ["--criterion", "tor", "--period", "1.08", "--double-support", "0.16"]
     return [sys.executable, "-m", "walk3d.cli", "campaign", *options, "--out", str(out)]
 
 

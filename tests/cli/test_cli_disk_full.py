@@ -15,8 +15,10 @@ from pathlib import Path
 
 import pytest
 
-FAST = ["--nodes", "6", "--max-iter", "3", "--criterion", "tor"]
-"""A solve of a few seconds that does not converge (the result is still written)."""
+FAST = ["--nodes", "6", "--max-iter", "3", "--criterion", "tor", "--period", "1.08",
+        "--double-support", "0.16"]  # fmt: skip
+"""A solve of a few seconds that does not converge (the result is still written); T and Td
+given, so one problem is built and solved, not the free landing's as well."""
 
 
 def _run(*args, timeout=300, **kwargs):
