@@ -80,3 +80,24 @@ def replace_result_file(folder: Path, name: str, data: bytes) -> Path:
     manifest["files"][name] = len(data)
     (folder / "manifest.json").write_text(json.dumps(manifest), encoding="utf-8")
     return folder / name
+
+
+def cli(capsys, *args) -> tuple[int, str, str]:
+    """``walk3d ARGS`` run in this process: (exit code, stdout, stderr)."""
+    import pytest
+
+    from walk3d.cli import main
+
+    with pytest.raises(SystemExit) as info:
+        main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return info.value.code, out, err
+
+
+def one_line_error(result: tuple[int, str, str], *words: str) -> None:
+    """Assert that ``result`` (from :func:`cli`) is exit 2 with one ``walk3d: error:`` line that
+    names every one of ``words``, and no traceback."""
+    code, _, err = result
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1 and lines[0].startswith("walk3d: error:"), err
+    assert "Traceback" not in err and all(w in lines[0] for w in words), err

@@ -7,28 +7,12 @@ import io
 
 import numpy as np
 import pytest
-from helpers import replace_result_file
+from helpers import cli, one_line_error, replace_result_file
 from report_support import DATA, needs_data
 
-from walk3d.cli import main
 from walk3d.report.norms import load_norms
 
 FALISSE = "falisse2019/cycle_right_leg_mean_sd.csv"
-
-
-def _cli(capsys, *args) -> tuple[int, str, str]:
-    """``walk3d ARGS`` in this process: (exit code, stdout, stderr)."""
-    with pytest.raises(SystemExit) as info:
-        main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return info.value.code, out, err
-
-
-def _one_line_error(result, *words) -> None:
-    code, _, err = result
-    lines = err.strip().splitlines()
-    assert code == 2 and len(lines) == 1 and lines[0].startswith("walk3d: error:"), err
-    assert "Traceback" not in err and all(w in lines[0] for w in words), err
 
 
 def _data(tmp_path, content: bytes):
@@ -49,7 +33,7 @@ def _nan_table() -> bytes:
 def test_malformed_or_non_finite_data_is_one_line(result_folder, tmp_path, capsys, content):
     data = _data(tmp_path, content)
     out = tmp_path / "r.html"
-    _one_line_error(_cli(capsys, "report", result_folder, "--out", out, "--data", data),
+    one_line_error(cli(capsys, "report", result_folder, "--out", out, "--data", data),
                     "--data", "cycle_right_leg_mean_sd.csv")  # fmt: skip
     assert not out.exists()
     assert load_norms(data).notes  # found by itself, the same data is skipped with a note
@@ -57,14 +41,14 @@ def test_malformed_or_non_finite_data_is_one_line(result_folder, tmp_path, capsy
 
 def test_an_empty_data_folder_is_one_line(result_folder, tmp_path, capsys):
     (tmp_path / "empty").mkdir()
-    _one_line_error(_cli(capsys, "report", result_folder, "--out", tmp_path / "r.html",
+    one_line_error(cli(capsys, "report", result_folder, "--out", tmp_path / "r.html",
                          "--data", tmp_path / "empty"), "--data")  # fmt: skip
 
 
 @needs_data
 def test_the_measured_data_gives_bands(result_folder, tmp_path, capsys):
     """Negative control: the real table is accepted and gives bands."""
-    code, out, err = _cli(capsys, "report", result_folder, "--out", tmp_path / "r.html",
+    code, out, err = cli(capsys, "report", result_folder, "--out", tmp_path / "r.html",
                           "--data", DATA)  # fmt: skip
     assert code == 0 and "bands from" in " ".join(out.split()), err
 
@@ -78,6 +62,6 @@ def test_nan_joint_angles_in_result_npz_are_one_line(fresh_folder, tmp_path, cap
     replace_result_file(fresh_folder, "result.npz", buffer.getvalue())
     for command in ("report", "animate"):
         out = tmp_path / ("r.html" if command == "report" else "a.mp4")
-        _one_line_error(_cli(capsys, command, fresh_folder, "--out", out),
+        one_line_error(cli(capsys, command, fresh_folder, "--out", out),
                         "result.npz", "joint_angle", "non-finite")  # fmt: skip
         assert not out.exists()

@@ -7,30 +7,14 @@ import shutil
 
 import numpy as np
 import pytest
-from helpers import replace_result_file
+from helpers import cli, one_line_error, replace_result_file
 
-from walk3d.cli import main
 from walk3d.results.prediction import save_prediction
 
 
 @pytest.fixture(scope="module")
 def pred_dir(synthetic_prediction, tmp_path_factory):
     return save_prediction(synthetic_prediction, tmp_path_factory.mktemp("pred") / "p")
-
-
-def _cli(capsys, *args) -> tuple[int, str, str]:
-    """``walk3d ARGS`` in this process: (exit code, stdout, stderr)."""
-    with pytest.raises(SystemExit) as info:
-        main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return info.value.code, out, err
-
-
-def _one_line_error(result, *words) -> None:
-    code, _, err = result
-    lines = err.strip().splitlines()
-    assert code == 2 and len(lines) == 1 and lines[0].startswith("walk3d: error:"), err
-    assert "Traceback" not in err and all(w in lines[0] for w in words), err
 
 
 def _falisse_rows(falisse) -> tuple[str, list[str]]:
@@ -44,7 +28,7 @@ def test_a_reference_with_a_constant_percent_column_is_refused(pred_dir, falisse
     ref = tmp_path / "const.csv"
     ref.write_text("\n".join([head, *("50," + r.split(",", 1)[1] for r in rows)]) + "\n")
     out = tmp_path / "v"
-    _one_line_error(_cli(capsys, "validate", pred_dir, "--reference", ref, "--out", out),
+    one_line_error(cli(capsys, "validate", pred_dir, "--reference", ref, "--out", out),
                     "const.csv", "not increasing")  # fmt: skip
     assert not out.exists()
 
@@ -54,7 +38,7 @@ def test_a_reference_of_two_rows_is_refused(pred_dir, falisse, tmp_path, capsys)
     ref = tmp_path / "two.csv"
     ref.write_text("\n".join([head, rows[0], rows[-1]]) + "\n")
     out = tmp_path / "v"
-    _one_line_error(_cli(capsys, "validate", pred_dir, "--reference", ref, "--out", out),
+    one_line_error(cli(capsys, "validate", pred_dir, "--reference", ref, "--out", out),
                     "two.csv", "2 data rows")  # fmt: skip
     assert not out.exists()
 
@@ -71,9 +55,9 @@ def test_the_same_table_with_its_rows_is_accepted_by_the_reader(falisse):
 def test_random_bytes_in_result_npz_are_one_line(pred_dir, falisse, tmp_path, capsys):
     bad = shutil.copytree(pred_dir, tmp_path / "p")
     replace_result_file(bad, "result.npz", np.random.default_rng(2).bytes(4000))
-    result = _cli(capsys, "validate", bad, "--reference", falisse / "cycle_right_leg_mean_sd.csv",
+    result = cli(capsys, "validate", bad, "--reference", falisse / "cycle_right_leg_mean_sd.csv",
                   "--out", tmp_path / "v")  # fmt: skip
-    _one_line_error(result, "result.npz", "not a walk3d result")
+    one_line_error(result, "result.npz", "not a walk3d result")
     assert "pickle" not in result[2]
 
 

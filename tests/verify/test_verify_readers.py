@@ -7,10 +7,9 @@ import shutil
 
 import numpy as np
 import pytest
-from helpers import replace_result_file, storage_with_nan
+from helpers import cli, one_line_error, replace_result_file, storage_with_nan
 
 import walk3d.verify.run as run_module
-from walk3d.cli import main
 from walk3d.io.errors import DataFileError
 from walk3d.verify.periodic import periodic_records
 
@@ -22,21 +21,6 @@ def folder(saved_atlas_prediction, tmp_path, monkeypatch):
     return shutil.copytree(saved_atlas_prediction[2], tmp_path / "p")
 
 
-def _cli(capsys, *args) -> tuple[int, str, str]:
-    """``walk3d ARGS`` in this process: (exit code, stdout, stderr)."""
-    with pytest.raises(SystemExit) as info:
-        main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return info.value.code, out, err
-
-
-def _one_line_error(result, *words) -> None:
-    code, _, err = result
-    lines = err.strip().splitlines()
-    assert code == 2 and len(lines) == 1 and lines[0].startswith("walk3d: error:"), err
-    assert "Traceback" not in err and all(w in lines[0] for w in words), err
-
-
 def test_the_good_folder_extends_periodically(folder, tmp_path):
     """Negative control: the files the tests below damage are read."""
     motion, loads = periodic_records(folder / "motion.mot", folder / "grf.xml", tmp_path)
@@ -45,7 +29,7 @@ def test_the_good_folder_extends_periodically(folder, tmp_path):
 
 def test_junk_grf_xml_is_one_line(folder, capsys):
     replace_result_file(folder, "grf.xml", b"<<<not xml")
-    _one_line_error(_cli(capsys, "verify", folder), "grf.xml:1", "invalid XML")
+    one_line_error(cli(capsys, "verify", folder), "grf.xml:1", "invalid XML")
 
 
 def test_nan_in_motion_names_the_column_not_the_time_range(folder, tmp_path, capsys):
@@ -53,32 +37,32 @@ def test_nan_in_motion_names_the_column_not_the_time_range(folder, tmp_path, cap
     replace_result_file(folder, "motion.mot", bad.read_bytes())
     with pytest.raises(DataFileError, match="'knee_angle_r' is not finite in 2 rows"):
         periodic_records(folder / "motion.mot", folder / "grf.xml", tmp_path)
-    result = _cli(capsys, "verify", folder)
-    _one_line_error(result, "motion.mot", "knee_angle_r", "not finite")
+    result = cli(capsys, "verify", folder)
+    one_line_error(result, "motion.mot", "knee_angle_r", "not finite")
     assert "time range" not in result[2]
 
 
 def test_random_bytes_in_result_npz_say_it_is_not_a_walk3d_result(folder, capsys):
     replace_result_file(folder, "result.npz", np.random.default_rng(3).bytes(3000))
-    result = _cli(capsys, "verify", folder)
-    _one_line_error(result, "not a walk3d result")
+    result = cli(capsys, "verify", folder)
+    one_line_error(result, "not a walk3d result")
     assert "allow_pickle" not in result[2]
 
 
 @pytest.mark.parametrize("timeout", ["inf", "1e999", "3000000", "1e20", "1e308", "86401"])
 def test_an_infinite_timeout_is_one_line(tmp_path, capsys, timeout):
-    _one_line_error(_cli(capsys, "verify", tmp_path, "--timeout", timeout), "--timeout", "finite")
+    one_line_error(cli(capsys, "verify", tmp_path, "--timeout", timeout), "--timeout", "finite")
 
 
 def test_a_finite_timeout_passes_its_check(tmp_path, capsys):
     """Negative control: a finite timeout gets as far as the folder."""
     for ok in ("5", "86400"):
-        _one_line_error(_cli(capsys, "verify", tmp_path / "none", "--timeout", ok), "not a result")
+        one_line_error(cli(capsys, "verify", tmp_path / "none", "--timeout", ok), "not a result")
     for bad in (float("inf"), 3e6, 1e308):
         with pytest.raises(ValueError, match="at most 86400"):
             run_module.verify_folder(tmp_path, timeout=bad)
 
 
 def test_the_help_shows_the_opensim_extra(capsys):
-    code, out, _ = _cli(capsys, "verify", "--help")
+    code, out, _ = cli(capsys, "verify", "--help")
     assert code == 0 and "walk3d[opensim]" in " ".join(out.split())
