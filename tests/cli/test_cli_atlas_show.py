@@ -16,7 +16,9 @@ def test_a_stray_json_file_is_flagged(tmp_path, monkeypatch, capsys, junk):
     shutil.copy(atlas_module.ATLAS_DIR / "male-natural.json", tmp_path / "male-natural.json")
     (tmp_path / "junk.json").write_bytes(junk)
     monkeypatch.setattr(atlas_module, "ATLAS_DIR", tmp_path)
-    monkeypatch.setenv("COLUMNS", "250")
+    from walk3d.cli import common
+
+    monkeypatch.setattr(common.console, "width", 250)  # one table row per file, unwrapped
     with pytest.raises(SystemExit) as info:
         main(["atlas", "show"])
     out, err = capsys.readouterr()

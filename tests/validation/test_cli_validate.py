@@ -113,7 +113,15 @@ def test_the_library_checks_threshold_and_speed_too(
     with pytest.raises(ValueError, match=f"^{keyword} must be a finite positive number"):
         validate({"p": synthetic_prediction}, table, tmp_path / "v", **{keyword: value})
     assert not (tmp_path / "v").exists()
-    assert validate({"p": synthetic_prediction}, table, figures=False, speed=1.2).table2  # control
+
+
+def test_the_library_validates_with_a_good_threshold_and_speed(synthetic_prediction, falisse):
+    """Control of the check above: finite positive values validate."""
+    from walk3d.validation.run import validate
+
+    table = [falisse / "cycle_right_leg_mean_sd.csv"]
+    out = validate({"p": synthetic_prediction}, table, figures=False, speed=1.2, threshold=20.0)
+    assert out.table2
 
 
 @pytest.mark.parametrize("value", ["nan", "0"])
@@ -123,7 +131,8 @@ def test_a_bad_threshold_is_one_line_naming_it(pred_dir, tmp_path, falisse, valu
     r = _run(*args, "--threshold", value, "--out", tmp_path / "v")
     _one_line_error(r, f"--threshold must be a finite positive number, got {float(value)}")
     assert not (tmp_path / "v").exists()
-    assert _run(*args, "--threshold", "20", "--out", tmp_path / "v").returncode == 0
+    if value == "0":  # control, once: a good threshold validates
+        assert _run(*args, "--threshold", "20", "--out", tmp_path / "v").returncode == 0
 
 
 def test_calibrate_bad_input(tmp_path, falisse):
