@@ -190,11 +190,53 @@ def test_passive_off_leaves_the_node_function_and_the_keys_as_they_were(monkeypa
     # the cache and atlas keys are those of the settings without the field
     s = PredictionSettings()
     dumped = s.model.model_dump()
-    del dumped["passive"]
+    for name in ("passive", "passive_total", "heel_rise", "load_ramp"):
+        del dumped[name]
     from walk3d.solve import model_cache
 
     assert solver._model_key(body, s.model) == model_cache.model_key(dumped, body)
-    assert "passive" not in atlas.settings_key(s)["model"]
+    assert not {"passive", "passive_total", "heel_rise", "load_ramp"} & set(
+        atlas.settings_key(s)["model"]
+    )
     on = PredictionSettings(passive=True)
     assert solver._model_key(body, on.model) != solver._model_key(body, s.model)
     assert atlas.settings_key(on)["model"]["passive"] is True
+
+
+def test_the_whole_joint_passive_moments_are_anderson_2007_and_add_to_the_stops():
+    deg = np.radians
+    jm = passive.joint_moment
+    assert jm("knee_flexion", 0.0, "male") == pytest.approx(6.25)
+    assert jm("knee_flexion", 0.0, "female") == pytest.approx(8.033)
+    assert jm("hip_flexion", deg(-20.0), "male") == pytest.approx(11.1, abs=0.1)  # flexing
+    assert jm("ankle_dorsiflexion", deg(20.0), "male") == pytest.approx(-8.1, abs=0.1)
+    assert jm("hip_adduction", 0.3, "male") == 0.0  # not covered
+    body = build_body(sex="female")
+    q = np.zeros((1, 24))
+    i = body.dof_names.index("knee_flexion_r")
+    q[0, i] = np.sin(deg(5.0) / 2)
+    rates = np.zeros((1, 24))
+    stops = np.array(passive.passive_moments(body, list(q.T), list(rates.T))).T
+    total = np.array(passive.passive_moments(body, list(q.T), list(rates.T), total=True)).T
+    assert total[0, i] - stops[0, i] == pytest.approx(8.033 * np.exp(-5.25 * deg(5.0)))
+    elbow = body.dof_names.index("elbow_flex_r")
+    assert total[0, elbow] == stops[0, elbow] == 0.0
+    assert stops[0, i] == pytest.approx(0.0, abs=0.01)  # control: the stops alone are quiet
+
+
+def test_the_node_rows_see_the_whole_joint_passive_moments():
+    body = build_body()
+    rng = np.random.default_rng(4)
+    y = rng.uniform(-0.15, 0.15, nlp.N_Y)
+    w0 = np.array([0.05, 1.0, 0.01, 0.02, 0.01, 0.03])
+    p = np.array([0.6, -0.7, 2 * np.pi / 1.1, 0.0, 0.0, 0.0])
+    t = rng.uniform(0.0, 0.5, nlp.N_T)
+    rows = []
+    for total in (False, True):
+        model = ModelSettings(criterion="natural", passive=True, passive_total=total,
+                              handover=False)  # fmt: skip
+        g, _ = (np.array(v).ravel() for v in nlp.node_function(body, model)(y, w0, 0.07, p, t))
+        rows.append(g[nlp.G_ROWS["slack_pos"]])
+    assert np.max(np.abs(rows[1] - rows[0])) > 1e-3
+    with pytest.raises(ValueError, match="passive_total needs passive"):
+        ModelSettings(passive_total=True)

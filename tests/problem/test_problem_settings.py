@@ -32,6 +32,9 @@ ADDED_SINCE = [
     "start",
     "handover",
     "passive",
+    "passive_total",
+    "heel_rise",
+    "load_ramp",
 ]
 """Fields added later (issues #23, #24, #25, #26, #41), with defaults, so older files still
 load."""

@@ -18,7 +18,8 @@ ground last (right from its heel strike to the left heel strike, then left): in 
 the root is the leading foot, and the trailing foot closes the loop.
 
 During double support the trailing foot unloads as ``exp(-(τ/T_ds)³)`` with ``T_ds = Td/2`` and
-``τ`` the time since the contralateral heel strike (paper Eq. 6).
+``τ`` the time since the contralateral heel strike (paper Eq. 6), or with a load ramp
+(:func:`trailing_share`).
 
 With the handover (:func:`handover_share`) the root of the chain also passes from the trailing
 to the leading foot over double support instead of at heel strike.
@@ -42,10 +43,24 @@ def handover_share(x):
     return h, d1, d2
 
 
+def trailing_share(x, ramp: float | None = None) -> np.ndarray:
+    """The trailing foot's share of its heel-strike load at ``x`` = time since heel strike /
+    Td in [0, 1]: the paper's ``exp(−(2x)³)`` (``ramp`` None), which starts flat, or the cubic
+    ``(1 − x)²(1 + (2 − s)x)`` with initial slope ``−s`` (``ramp`` = s in [0, 3], monotone),
+    which loads the leading foot at ``s·W/Td`` from heel strike and reaches 0 at toe off."""
+    x = np.asarray(x, dtype=float)
+    if ramp is None:
+        return np.exp(-((2.0 * x) ** 3))
+    x = np.clip(x, 0.0, 1.0)
+    return (1.0 - x) ** 2 * (1.0 + (2.0 - ramp) * x)
+
+
 @dataclass(frozen=True)
 class GaitPhases:
     period: float
     double_support: float
+    ramp: float | None = None
+    """The leading foot's load ramp (:func:`trailing_share`); None: the paper's."""
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.period) and self.period > 0):
@@ -102,8 +117,8 @@ class GaitPhases:
     def trailing_decay(self, t) -> np.ndarray:
         """Share of its heel-strike load still on the trailing (non-root) foot; 0 in swing."""
         tau = self.time_since_heel_strike(t)
-        t_ds = self.double_support / 2
-        return np.where(tau <= self.double_support + 1e-12, np.exp(-((tau / t_ds) ** 3)), 0.0)
+        share = trailing_share(tau / self.double_support, self.ramp)
+        return np.where(tau <= self.double_support + 1e-12, share, 0.0)
 
     def handover(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(h, ḣ, ḧ)`` at ``t`` (1/s, 1/s²): the trailing foot's share of the root

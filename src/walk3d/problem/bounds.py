@@ -49,6 +49,11 @@ def _coord_bounds(
     # (a 5th-order series cannot vanish over a whole interval: "flat" means within a tolerance)
     flat = np.sin(settings.model.foot_flat_tolerance / 2)
     lo[sw, 0, r], hi[sw, 0, r] = -flat, flat
+    rise = settings.model.heel_rise
+    if rise is not None:  # the forefoot rocker: toes down from heel rise to toe off
+        g = settings.gait
+        late = sw & (sch.times - sch.times[0] >= rise * (g.period / 2 + g.double_support))
+        lo[late, 0, r] = s_down
     # left foot: toe rocker while trailing, heel first at its strike, unused in swing
     lo[ds, 0, lft], hi[ds, 0, lft] = s_down, 0.0
     lo[sw, 0, lft], hi[sw, 0, lft] = s_down, s_up

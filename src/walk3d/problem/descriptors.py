@@ -30,6 +30,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from walk3d.contact.phases import trailing_share
 from walk3d.kinematics import fourier
 from walk3d.problem import layout
 
@@ -72,6 +73,8 @@ class FreeGrid:
     alpha: np.ndarray
     beta: np.ndarray
     double_support: np.ndarray
+    ramp: float | None = None
+    """The leading foot's load ramp (:func:`walk3d.contact.phases.trailing_share`)."""
 
     @property
     def n(self) -> int:
@@ -94,7 +97,7 @@ class FreeGrid:
     @property
     def decay(self) -> np.ndarray:
         """The trailing foot's share of its heel-strike load at each node (0 in swing)."""
-        return np.where(self.double_support, np.exp(-((2 * self.a) ** 3)), 0.0)
+        return np.where(self.double_support, trailing_share(self.a, self.ramp), 0.0)
 
     @property
     def anchor_sign(self) -> np.ndarray:
@@ -116,9 +119,9 @@ def ds_intervals(nodes: int) -> int:
     return int(np.clip(round(nodes * 2 * DS_NODE_FRACTION), 2, nodes - 3))
 
 
-def free_grid(nodes: int, n_ds: int | None = None) -> FreeGrid:
+def free_grid(nodes: int, n_ds: int | None = None, ramp: float | None = None) -> FreeGrid:
     """The grid for ``nodes`` nodes with ``n_ds`` double-support intervals (default:
-    :func:`ds_intervals`)."""
+    :func:`ds_intervals`) and the load ramp ``ramp`` (:class:`FreeGrid`)."""
     n_ds = ds_intervals(nodes) if n_ds is None else int(n_ds)
     if not 1 <= n_ds <= nodes - 2:
         raise ValueError(f"{n_ds} double-support intervals do not fit {nodes} nodes")
@@ -130,7 +133,7 @@ def free_grid(nodes: int, n_ds: int | None = None) -> FreeGrid:
     return FreeGrid(
         n_ds=n_ds, a=a, b=b,
         alpha=np.where(in_ds, 1.0 / n_ds, 0.0), beta=np.where(in_ds, 0.0, 1.0 / m),
-        double_support=k <= n_ds,
+        double_support=k <= n_ds, ramp=ramp,
     )  # fmt: skip
 
 

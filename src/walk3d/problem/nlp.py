@@ -198,7 +198,7 @@ def node_function(
     per_foot = per_foot_loads(model, dynamics, balance)
     share = (p[3], p[4], p[5]) if model.handover else None
     st = state_at(body, yl, w0l, hw, p[0], p[1], p[2], dynamics, balance, per_foot, share)
-    st = active_state(body, st, yl[:24]) if dynamics and model.passive else st
+    st = active_state(body, st, yl[:24], model.passive_total) if dynamics and model.passive else st
     g, f, starts = node_outputs(body, model, st)
     if not dynamics:
         n = layout.N_COORD

@@ -32,6 +32,20 @@ LIMIT_TORQUES: dict[str, tuple[float, float, float, float, float, float]] = {
 a50fb31dba ``PreProcessing/default_coord_lim_torq_coeff.csv`` (Anderson & Pandy 1999 form).
 The knee is mapped from OpenSim's ``knee_angle`` (negative in flexion): ``θ = −knee_angle``, the
 moment negated, so the stops swap (``k1' = −k3``, ``k2' = −k4``, ``θ2' = −θ1``, and back)."""
+ANDERSON_PASSIVE: dict[str, dict[str, tuple[float, float, float, float]]] = {
+    "male": {"hip_flexion": (1.210, -6.351, -0.476, 5.910),
+             "knee_flexion": (0.0, 0.0, 6.250, -4.521),
+             "ankle_dorsiflexion": (0.000578, -5.819, -0.967, 6.090)},
+    "female": {"hip_flexion": (1.753, -6.358, -0.239, 3.872),
+               "knee_flexion": (0.0, 0.0, 8.033, -5.250),
+               "ankle_dorsiflexion": (0.005218, -4.875, -0.470, 6.425)},
+}  # fmt: skip
+"""``(b1 N·m, k1 1/rad, b2 N·m, k2 1/rad)``: the whole joint's passive moment ``b1 exp(k1 θ) +
+b2 exp(k2 θ)`` (muscles, tendons and ligaments) of Anderson, Madigan & Nussbaum (2007) J Biomech
+40:3105, Table 3, young adults by sex (RBDL ``Anderson2007Table3Mean``; the rows of the hip
+flexors, knee flexors and dorsiflexors, so positive flexes or dorsiflexes), docs/stance-model.md
+§3. Not scaled by body mass, as published. At 0° the knee gets 6–8 N·m of flexion, and 20° of
+hip extension 11–16 N·m of flexion."""
 DAMPING = 0.1
 """N·m·s/rad on each DoF of :data:`LIMIT_TORQUES` (PredSim's ``damping_coefficient_all_dofs``)."""
 
@@ -45,24 +59,42 @@ def limit_moment(name: str, theta: Any) -> Any:
     return k1 * mo.exp(k2 * (theta - hi)) + k3 * mo.exp(k4 * (theta - lo))
 
 
-def passive_moments(body: BodyModel, values: list[Any], rates: list[Any]) -> list[Any]:
+def joint_moment(name: str, theta: Any, sex: str) -> Any:
+    """The whole joint's passive moment of DoF ``name`` (no side suffix) at ``θ`` (rad), N·m
+    (:data:`ANDERSON_PASSIVE`); 0 for the DoFs it does not cover."""
+    coef = ANDERSON_PASSIVE["female" if sex == "female" else "male"].get(name)
+    if coef is None:
+        return 0.0 * theta
+    b1, k1, b2, k2 = coef
+    return b1 * mo.exp(k1 * theta) + b2 * mo.exp(k2 * theta)
+
+
+def passive_moments(
+    body: BodyModel, values: list[Any], rates: list[Any], total: bool = False
+) -> list[Any]:
     """Per DoF, the passive moment (N·m) from the coordinate values ``q`` and the DoF angular
-    rates (rad/s): range stop minus damping where :data:`LIMIT_TORQUES` has the DoF, else 0."""
+    rates (rad/s): range stop minus damping where :data:`LIMIT_TORQUES` has the DoF, else 0;
+    ``total`` adds the whole joint's passive moment (:func:`joint_moment`)."""
     out = []
     for i, dof in enumerate(body.dof_names):
         name = dof.removesuffix("_r").removesuffix("_l")
         if name in LIMIT_TORQUES:
-            out.append(limit_moment(name, 2.0 * mo.asin(values[i])) - DAMPING * rates[i])
+            theta = 2.0 * mo.asin(values[i])
+            m = limit_moment(name, theta) - DAMPING * rates[i]
+            out.append(m + joint_moment(name, theta, body.sex) if total else m)
         else:
             out.append(0.0 * rates[i])
     return out
 
 
-def active_state(body: BodyModel, st: GaitState, values: list[Any]) -> GaitState:
+def active_state(
+    body: BodyModel, st: GaitState, values: list[Any], total: bool = False
+) -> GaitState:
     """``st`` with each DoF's moment replaced by its active part ``M − M_passive`` (the moments
-    about locked axes are unchanged); ``values``: the 24 joint coordinates ``q``."""
+    about locked axes are unchanged); ``values``: the 24 joint coordinates ``q``; ``total``: as
+    :func:`passive_moments`."""
     rates = [r for j in st.rates for r in j]
-    passive = passive_moments(body, values, rates)
+    passive = passive_moments(body, values, rates, total)
     moments, i = [], 0
     for j, joint in enumerate(body.joints):
         m = list(st.moments[j])

@@ -55,7 +55,7 @@ def schedule(settings: PredictionSettings) -> Schedule:
     """
     if settings.gait.free:
         return free_schedule(settings)
-    ph = GaitPhases(settings.gait.period, settings.gait.double_support)
+    ph = GaitPhases(settings.gait.period, settings.gait.double_support, settings.model.load_ramp)
     n = settings.solver.nodes
     h = settings.gait.period / (2 * n)
     tau = np.arange(n) * h
@@ -82,7 +82,7 @@ def free_schedule(settings: PredictionSettings) -> Schedule:
     """The phase-following grid of :mod:`walk3d.problem.descriptors` at the settings' T and
     Td (with a free descriptor they are the first guess)."""
     g = settings.gait
-    grid = descriptors.free_grid(settings.solver.nodes)
+    grid = descriptors.free_grid(settings.solver.nodes, ramp=settings.model.load_ramp)
     t_hs = GaitPhases(g.period, g.double_support).heel_strike_r
     ds = grid.double_support
     return Schedule(

@@ -21,6 +21,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, ValidationError, field_validator, model_validator
 
 from walk3d.problem import descriptors, terms
+from walk3d.problem.setup import available_cores, body_for, ratios_for
 
 __all__ = ["GaitSettings", "ModelSettings", "PredictionSettings", "SolverSettings",
            "available_cores", "body_for", "first_error", "flat_settings", "ratios_for",
@@ -135,6 +136,18 @@ class ModelSettings(_Group):
     """Passive joint moments, range stops and damping (:mod:`walk3d.problem.passive`): C_tor and
     the effort see the active part. Off: the paper's joints; then left out of the model keys."""
 
+    passive_total: bool = False
+    """With ``passive``, add the whole joint's passive moment at the hip, knee and ankle
+    (Anderson et al. 2007, :mod:`walk3d.problem.passive`). Off: the range stops alone."""
+    heel_rise: float | None = None
+    """Fraction of the root foot's stance after which its heel may rise (the forefoot rocker):
+    about 0.6 in people (heel-off at 61 % of stance, Chiu et al. 2013). None: flat in single
+    stance, as the paper."""
+    load_ramp: float | None = None
+    """Initial slope ``s`` of the trailing foot's share ``(1 − x)²(1 + (2 − s)x)``, ``x`` = time
+    since heel strike / Td (:mod:`walk3d.contact.phases`), in [0, 3]: the leading foot loads with
+    a slope, as measured. None: the paper's ``exp(−(2x)³)``, which starts flat."""
+
     @field_validator("criterion")
     @classmethod
     def _criterion(cls, v: str) -> str:
@@ -151,6 +164,11 @@ class ModelSettings(_Group):
             (0 <= self.free_moment_radius <= 0.1,
              f"free-moment radius must be in [0, 0.1] m, got {self.free_moment_radius}"),
             (0 < self.smoothing < 0.1, f"smoothing must be in (0, 0.1), got {self.smoothing}"),
+            (self.passive or not self.passive_total, "passive_total needs passive on"),
+            (self.heel_rise is None or 0.3 <= self.heel_rise <= 1,
+             f"heel_rise must be in [0.3, 1] of stance, got {self.heel_rise}"),
+            (self.load_ramp is None or 0 <= self.load_ramp <= 3,
+             f"load_ramp must be in [0, 3], got {self.load_ramp}"),
             ((self.rollover_s is None) == (self.rollover_ankle is None)
              and (self.rollover_s is None or len(self.rollover_s) == len(self.rollover_ankle)),
              "rollover_s and rollover_ankle go together, one ankle point per knot"),
@@ -267,6 +285,14 @@ class SolverSettings(_Group):
         return {} if checks is None else dict(self._check_pairs(checks))
 
 
+OPT_IN: dict[str, Any] = {
+    "passive": False,
+    "passive_total": False,
+    "heel_rise": None,
+    "load_ramp": None,
+}
+"""Model settings whose value here leaves them out of the model-cache and atlas keys: the
+problem of a walk3d before they existed."""
 GROUPS: dict[str, type[_Group]] = {
     "gait": GaitSettings,
     "model": ModelSettings,
@@ -352,41 +378,6 @@ def recorded_settings(summary: dict[str, Any]) -> dict[str, Any]:
     if isinstance(inputs, dict):
         return {k: v for k, v in inputs.items() if k not in ("seed", "solver")}
     return {}
-
-
-def available_cores() -> int:
-    """CPU cores this process may run on (its affinity mask where the OS has one)."""
-    import os
-
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # macOS, Windows
-        return max(1, os.cpu_count() or 1)
-
-
-def body_for(settings: PredictionSettings):
-    """The body model of these settings (with the calibrated roll-over, if any)."""
-    from dataclasses import replace
-
-    import numpy as np
-
-    from walk3d.body.model import build_body
-    from walk3d.kinematics.rollover import RollOver
-
-    g, m = settings.gait, settings.model
-    body = build_body(g.mass, g.height, g.sex)
-    if m.rollover_s is None:
-        return body
-    ro = RollOver.from_samples(np.array(m.rollover_s), np.array(m.rollover_ankle))
-    return replace(body, rollover=ro)
-
-
-def ratios_for(model: ModelSettings):
-    """The calibrated :class:`~walk3d.contact.transition.TransitionRatios`, or None."""
-    from walk3d.contact.transition import TransitionRatios
-
-    r = model.transition_ratios
-    return None if r is None else TransitionRatios(*r)
 
 
 def first_error(exc: Exception) -> str:

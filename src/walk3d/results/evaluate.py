@@ -121,7 +121,7 @@ def evaluate_cycle(
     body: BodyModel, settings: PredictionSettings, x: np.ndarray, n_samples: int = 101
 ) -> CycleEvaluation:
     """Evaluate the cycle at ``n_samples`` equally spaced times from 0 to T (inclusive)."""
-    ph = GaitPhases(settings.gait.period, settings.gait.double_support)
+    ph = GaitPhases(settings.gait.period, settings.gait.double_support, settings.model.load_ramp)
     T = settings.gait.period
     t = np.linspace(0.0, T, n_samples)
     right = ph.root_is_right(t)
@@ -162,7 +162,8 @@ def evaluate_cycle(
             mom_o[idx, k] = stack_v(st.feet[side][1])
         coords_b = [tuple(v[idx] for v in c) for c in coords]
         q_b = [c[0] for c in coords_b[:24]]
-        act = active_state(body, st, q_b) if settings.model.passive else st  # criteria's moments
+        total = settings.model.passive_total
+        act = active_state(body, st, q_b, total) if settings.model.passive else st  # criteria's
         m, w, axes = dof_moment_terms(body, act)
         dof_m[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in m])
         dof_w[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in w])

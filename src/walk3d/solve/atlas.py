@@ -25,7 +25,7 @@ import numpy as np
 from walk3d.io.checks import finite_number, increasing, read_json_object, require_finite
 from walk3d.io.errors import DataFileError
 from walk3d.problem import descriptors, layout, terms
-from walk3d.problem.settings import PredictionSettings
+from walk3d.problem.settings import OPT_IN, PredictionSettings
 from walk3d.solve.revision import SOLVE_REVISION
 
 __all__ = ["ATLAS_DIR", "FORMAT", "Atlas", "AtlasStart", "atlas_path", "candidates",
@@ -93,8 +93,8 @@ def settings_key(settings: PredictionSettings) -> dict:
     atlases made before the settings existed (the same problem)."""
     model = settings.model.model_dump(mode="json")
     model["criterion"] = terms.preset_name(settings.model.criterion) or model["criterion"]
-    for flag in ("handover", "passive"):  # off: as in atlases made before the setting existed
-        if not model[flag]:
+    for flag in ("handover", *OPT_IN):  # off: as in atlases made before the setting existed
+        if model[flag] in (False, None):
             del model[flag]
     return {"sex": settings.gait.sex, "model": model, "nodes": settings.solver.nodes,
             "ds_intervals": descriptors.ds_intervals(settings.solver.nodes),
@@ -162,8 +162,8 @@ def _usable(atlas: Atlas, ref: PredictionSettings) -> str | None:
     theirs = {**atlas.settings, "model": dict(atlas.settings.get("model", {}))}
     ours["model"]["criterion"] = theirs["model"].get("criterion")
     for key in (ours, theirs):
-        key["model"].pop("handover", None)
-        key["model"].pop("passive", None)
+        for flag in ("handover", *OPT_IN):
+            key["model"].pop(flag, None)
     if theirs != ours:
         return f"the atlas {atlas.path.name} solves other model or grid settings"
     return None

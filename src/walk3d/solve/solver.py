@@ -201,8 +201,11 @@ def _model_key(body: BodyModel, model: ModelSettings) -> str:
     :func:`walk3d.problem.nlp.model_functions` receives. The gait descriptors reach the node
     functions as node parameters, so one entry serves every V, T and Td of a body."""
     fields = model.model_dump()
-    if not fields["passive"]:  # off: the key of the models made before the setting existed
-        del fields["passive"]
+    for name in ("heel_rise", "load_ramp"):  # bounds and node parameters, not the functions
+        del fields[name]
+    for name in ("passive", "passive_total"):  # off: the key before the setting existed
+        if not fields[name]:
+            del fields[name]
     return model_cache.model_key(fields, body)
 
 

@@ -1,0 +1,44 @@
+"""What settings build besides the problem: the body model (with a calibrated roll-over), the
+calibrated transition ratios, and the cores a process may use. Importable from
+:mod:`walk3d.problem.settings` as well."""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+def available_cores() -> int:
+    """CPU cores this process may run on (its affinity mask where the OS has one)."""
+    import os
+
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # macOS, Windows
+        return max(1, os.cpu_count() or 1)
+
+
+def body_for(settings: Any) -> Any:
+    """The :class:`~walk3d.body.model.BodyModel` of these :class:`PredictionSettings` (with the
+    calibrated roll-over, if any)."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from walk3d.body.model import build_body
+    from walk3d.kinematics.rollover import RollOver
+
+    g, m = settings.gait, settings.model
+    body = build_body(g.mass, g.height, g.sex)
+    if m.rollover_s is None:
+        return body
+    ro = RollOver.from_samples(np.array(m.rollover_s), np.array(m.rollover_ankle))
+    return replace(body, rollover=ro)
+
+
+def ratios_for(model: Any) -> Any:
+    """The calibrated :class:`~walk3d.contact.transition.TransitionRatios` of these
+    :class:`ModelSettings`, or None."""
+    from walk3d.contact.transition import TransitionRatios
+
+    r = model.transition_ratios
+    return None if r is None else TransitionRatios(*r)
