@@ -65,6 +65,15 @@ def _start_of(stages: list[dict]) -> str:
     return starts[-1] if starts else "standing"
 
 
+def _predicted_by(settings: PredictionSettings, stages: list[dict]) -> dict:
+    """How predicted descriptors were found: ``atlas`` (blended from the atlas's free-landing
+    optima, :mod:`walk3d.solve.landing`) or ``solve``; nothing when none is predicted."""
+    if not settings.gait.free:
+        return {}
+    atlas = bool(stages) and stages[-1].get("descriptors_from") == "atlas"
+    return {"predicted_by": "atlas" if atlas else "solve"}
+
+
 def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str) -> dict:
     """The JSON summary of a prediction (SI units, criteria exact, smoothed for reference)."""
     return {
@@ -72,7 +81,7 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "solve_revision": SOLVE_REVISION,
         "solved_as": _solved_as(settings),
         "settings": settings.model_dump(),
-        "descriptors": descriptor_summary(settings),
+        "descriptors": descriptor_summary(settings) | _predicted_by(settings, outcome.stages),
         "seed": seed,
         "start": _start_of(outcome.stages),
         "landing": landing_of(outcome),
@@ -145,7 +154,8 @@ def predict(
         def first(given: PredictionSettings):
             return solve_warm(given, x_ref, solver, on_stage=on_stage)
 
-    outcome = solve_with_landing(settings, first, solver, on_stage)
+    outcome = solve_with_landing(settings, first, solver, on_stage,
+                                 seed if warm_from is None else None)  # fmt: skip
     settings = with_predicted(settings, outcome.descriptors, outcome.handover)
     if on_stage:
         on_stage("evaluating the cycle")

@@ -35,8 +35,9 @@ ADDED_SINCE = [
     "passive_total",
     "heel_rise",
     "load_ramp",
+    "descriptors_from",
 ]
-"""Fields added later (issues #23, #24, #25, #26, #41), with defaults, so older files still
+"""Fields added later (issues #23, #24, #25, #26, #41, #42), with defaults, so older files still
 load."""
 
 

@@ -199,9 +199,11 @@ def test_a_failed_atlas_start_falls_back_to_standing(monkeypatch):
 
 
 @pytest.mark.solve
-def test_a_prediction_from_the_atlas_walks_in_few_iterations():
-    """The default prediction's path: the atlas's starts, the full problem alone with the free
-    landing, then the handover at its T and Td (walk3d.solve.landing)."""
+@pytest.mark.parametrize("descriptors_from", ["atlas", "solve"])
+def test_a_prediction_from_the_atlas_walks_in_few_iterations(descriptors_from):
+    """The default prediction's path: T and Td from the atlas and one solve of the handover
+    from its handover optima; with ``descriptors_from="solve"``, the full problem alone with the
+    free landing, then the handover at its T and Td (walk3d.solve.landing)."""
     from walk3d.pipeline import predict
 
     settings = PredictionSettings(
@@ -211,14 +213,22 @@ def test_a_prediction_from_the_atlas_walks_in_few_iterations():
         speed=1.27,
         criterion="natural",
         free=("period", "double_support"),
+        descriptors_from=descriptors_from,
     )
     pred = predict(settings, 0)
     s = pred.summary
     assert s["start"] == "atlas" and s["converged"] and s["status"] in SUCCESS
-    assert [st.get("start") for st in s["stages"]][-2:] == ["atlas", LANDING]
-    assert all(st.get("start") == "atlas" for st in s["stages"][:-1])
+    if descriptors_from == "atlas":
+        assert [st.get("start") for st in s["stages"]] == ["atlas"]
+        assert s["stages"][0]["atlas_landing"] == "handover"
+        assert s["descriptors"]["predicted_by"] == "atlas"
+        assert s["iterations"] <= starts.ATLAS_MAX_ITER
+    else:
+        assert [st.get("start") for st in s["stages"]][-2:] == ["atlas", LANDING]
+        assert all(st.get("start") == "atlas" for st in s["stages"][:-1])
+        assert s["descriptors"]["predicted_by"] == "solve"
+        assert s["iterations"] <= starts.ATLAS_TRIES * starts.ATLAS_MAX_ITER + LANDING_MAX_ITER
     assert s["landing"] == "handover" and s["settings"]["model"]["handover"]
-    assert s["iterations"] <= starts.ATLAS_TRIES * starts.ATLAS_MAX_ITER + LANDING_MAX_ITER
     assert s["gait_checks"]["looks_like_walking"]
     assert 0.9 < s["descriptors"]["period"] < 1.25
 
@@ -230,3 +240,26 @@ def test_stage_titles_say_where_they_start():
     assert given.problem == "full" and given.title.startswith("from the atlas: minimizing")
     free = starts._last_stage(solver, PredictionSettings(free=("period",)), "a neighbour")
     assert free.problem == "free" and "period" in free.title
+
+
+def test_a_handover_problem_starts_from_the_entries_handover_optima(tmp_path):
+    _write(tmp_path, [1.0, 1.2, 1.4])
+    path = atlas.atlas_path("male", "natural", tmp_path)
+    data = json.loads(path.read_text())
+    for e in data["entries"][1:]:  # 1.2 and 1.4 m/s have one, 1.0 not
+        e["x_handover"] = [-float(k) * e["speed"] for k in range(layout.N_X)]
+    path.write_text(json.dumps(data))
+    ho = atlas.start_for(_ref(1.25, handover=True), tmp_path)[0]
+    assert ho.landing == "handover" and ho.x[3] == pytest.approx(-3 * 1.25)
+    assert ho.period == pytest.approx(1.0 + 1.25)  # T and Td: the free landing's, blended
+    assert ho.describe()["atlas_landing"] == "handover"
+    # negative controls: the free landing, and a blend with an entry that has none
+    free = atlas.start_for(_ref(1.25, handover=False), tmp_path)[0]
+    assert free.landing == "free" and free.x[3] == pytest.approx(3 * 1.25)
+    mixed = atlas.start_for(_ref(1.1, handover=True), tmp_path)[0]
+    assert mixed.landing == "free" and mixed.x[3] == pytest.approx(3 * 1.1)
+    data["entries"][1]["x_handover"] = [1.0, float("nan")]
+    path.write_text(json.dumps(data))
+    atlas._read.cache_clear()
+    with pytest.raises(ValueError, match="x_handover"):
+        atlas.read_atlas(path)

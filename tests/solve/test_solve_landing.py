@@ -1,5 +1,7 @@
 """walk3d.solve.landing: T and Td predicted with the free landing, then the handover at them."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -81,3 +83,53 @@ def test_the_evaluated_settings_take_the_landing_the_cycle_was_solved_with():
     kept = with_predicted(settings, FOUND, handover=False)
     assert not kept.model.handover and kept.gait.period == 1.1
     assert with_predicted(settings, FOUND).model.handover
+
+
+@pytest.fixture
+def one_solve(monkeypatch, recorded):
+    """The atlas path: a handover atlas start at 1.3 m/s (reference subject) and a fake
+    ``solve_from_atlas`` that records the given settings it was asked to solve."""
+    from walk3d.solve import atlas
+
+    start = atlas.AtlasStart(x=np.zeros(layout.N_X), period=1.05, double_support=0.11,
+                             speeds=(1.3,), weights=(1.0,), preset="natural",
+                             landing="handover")  # fmt: skip
+    calls = {"given": [], "converges": True, "start": start}
+    monkeypatch.setattr(atlas, "candidates", lambda ref, tries=3: ([calls["start"]], None))
+
+    def from_atlas(settings, seed, method, on_stage):
+        calls["given"].append(settings)
+        return _outcome(4.0, calls["converges"], handover=settings.model.handover)
+
+    monkeypatch.setattr(starts, "solve_from_atlas", from_atlas)
+    calls["run"] = lambda s: landing.solve_with_landing(s, recorded["first_fn"], seed=0)
+    recorded["first_fn"] = lambda s: (recorded["first"].append(s),
+                                      _outcome(1.0, descriptors=dict(FOUND)))[1]  # fmt: skip
+    return calls
+
+
+def test_with_a_handover_atlas_the_default_is_one_solve_at_the_atlas_t_and_td(one_solve, recorded):
+    settings = api.settings(1.3 * np.sqrt(1.6 / 1.77), height=1.6, threads=1)
+    out = one_solve["run"](settings)
+    (given,) = one_solve["given"]
+    k = np.sqrt(1.6 / 1.77)  # the subject's times: the reference subject's × √(h / 1.77 m)
+    assert given.model.handover and not given.gait.free
+    assert given.gait.period == pytest.approx(1.05 * k)
+    assert given.gait.double_support == pytest.approx(0.11 * k)
+    assert out.descriptors == pytest.approx({"period": 1.05 * k, "double_support": 0.11 * k})
+    assert out.stages[-1]["descriptors_from"] == landing.ATLAS_DESCRIPTORS
+    assert not recorded["first"] and not recorded["warm"]  # no free-landing solve
+
+
+def test_the_two_solves_follow_when_the_atlas_path_fails_or_is_not_asked(one_solve, recorded):
+    one_solve["converges"] = False
+    out = one_solve["run"](api.settings(1.3, threads=1))
+    assert len(one_solve["given"]) == 1 and len(recorded["first"]) == 1  # then the free landing
+    assert [r["start"] for r in out.stages] == ["atlas", "atlas", landing.LANDING]
+    assert out.descriptors == FOUND and out.converged
+    # negative controls: an atlas of free-landing optima only, or descriptors_from = solve
+    for start, options in ((replace(one_solve["start"], landing="free"), {}),
+                           (one_solve["start"], {"descriptors_from": "solve"})):  # fmt: skip
+        one_solve["start"], one_solve["given"], recorded["first"] = start, [], []
+        one_solve["run"](api.settings(1.3, threads=1, **options))
+        assert not one_solve["given"] and len(recorded["first"]) == 1

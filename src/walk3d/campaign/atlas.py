@@ -23,7 +23,8 @@ from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import SOLVE_REVISION
 from walk3d.solve.atlas import ATLAS_DIR, FORMAT, atlas_path, settings_key
 
-__all__ = ["ATLAS_SPEEDS", "atlas_settings", "build_atlas", "fingerprint", "write_atlas"]
+__all__ = ["ATLAS_SPEEDS", "add_handover", "atlas_settings", "build_atlas", "fingerprint",
+           "write_atlas"]  # fmt: skip
 
 ATLAS_SPEEDS = "0.6:2.0:0.1"
 """Reference-subject speeds, m/s: subjects of 1.5-2.0 m walking 0.65-1.9 m/s map inside
@@ -118,6 +119,7 @@ def build_atlas(
     work = Path(work_dir) / f"{sex}-{preset}"
     run_sweep(atlas_settings(sex, preset), grid, work, seed, on_progress=on_progress)
     path, n = write_atlas(sex, preset, work, grid, out_dir, seed)
+    add_handover(path, on_progress)
     return path, n, len(grid)
 
 
@@ -162,3 +164,40 @@ def write_atlas(
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_text(path, json.dumps(data, indent=1) + "\n")
     return path, len(entries)
+
+
+HANDOVER_MAX_ITER = 300
+"""Iteration limit of an entry's handover solve from its free-landing optimum: at 1.3 and 1.4 m/s
+(male) they took 74 and 107 iterations."""
+
+
+def add_handover(path: Path, on_progress: Callable[[str, int, int], None] | None = None) -> int:
+    """Give each entry of the atlas file ``path`` its ``x_handover``: the optimum of the
+    default problem (the handover, ``ModelSettings.handover``) at the entry's speed, period and
+    double support, solved from the entry's free-landing optimum. These are the starts of the
+    one-solve default (:func:`walk3d.solve.landing.solve_with_landing`). Entries that already
+    have one are kept; an entry whose solve does not converge upright gets none. Returns the
+    number of entries with one."""
+    from walk3d.solve.atlas import read_atlas
+    from walk3d.solve.solver import forget_solvers
+    from walk3d.solve.starts import solve_warm
+
+    data = json.loads(path.read_text())
+    atlas = read_atlas(path)
+    base = atlas_settings(atlas.sex, atlas.preset).replace(handover=True, free=())
+    entries = data["entries"]
+    for k, e in enumerate(entries):
+        if on_progress:
+            on_progress(f"handover at {e['speed']:.2f} m/s", k, len(entries))
+        if "x_handover" in e:
+            continue
+        given = base.replace(speed=e["speed"], period=e["period"],
+                             double_support=e["double_support"])  # fmt: skip
+        out = solve_warm(given, np.asarray(e["x"], dtype=float), origin="the free landing",
+                         max_iter=HANDOVER_MAX_ITER)  # fmt: skip
+        forget_solvers()
+        if out.converged:
+            e["x_handover"] = [float(f"{v:.12g}") for v in out.x]
+            e["handover_iterations"] = out.iterations
+        atomic_write_text(path, json.dumps(data, indent=1) + "\n")  # resumable
+    return sum("x_handover" in e for e in entries)

@@ -15,6 +15,7 @@ from walk3d.cli.common import (
     SOLVER,
     CalibrationFile,
     Criterion,
+    DescriptorsFrom,
     DoubleSupport,
     FromTrial,
     Handover,
@@ -164,6 +165,7 @@ def predict(
     grf: TrialGrf = None,
     calibration: CalibrationFile = None,
     start: Start = "atlas",
+    descriptors_from: DescriptorsFrom = "atlas",
     perturbation: Perturbation = 0.05,
     restarts: Restarts = 1,
     max_iter: MaxIter = 800,
@@ -204,7 +206,7 @@ def predict(
         criterion, solver, seed, **gait_fields(speed, period, double_support, height),
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads, max_iter=max_iter,
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
-        hsl_library=hsl_library, handover=handover,
+        hsl_library=hsl_library, handover=handover, descriptors_from=descriptors_from,
         **_calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.io.errors import OutputWriteError
@@ -272,7 +274,8 @@ def descriptor_text(d: dict) -> str:
     """One line of the descriptors (``summary.json``'s ``descriptors``), marking predicted ones."""
 
     def mark(name: str) -> str:
-        return " (predicted)" if name in d["predicted"] else ""
+        by = " from the atlas" if d.get("predicted_by") == "atlas" else ""
+        return f" (predicted{by})" if name in d["predicted"] else ""
 
     return (f"V {d['speed']:.3f} m/s, T {d['period']:.3f} s{mark('period')}, Td "
             f"{d['double_support']:.3f} s{mark('double_support')}; stride "

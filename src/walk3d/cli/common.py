@@ -129,6 +129,16 @@ Start = Annotated[
         rich_help_panel=SOLVER,
     ),
 ]
+DescriptorsFrom = Annotated[
+    str,
+    typer.Option(
+        "--descriptors-from",
+        help="atlas: predicted T and Td blended from the atlas's free-landing optima, then one "
+        "solve (seconds); solve: the free landing solved first, then the handover at its T and "
+        "Td (docs/descriptors.md).",
+        rich_help_panel=SOLVER,
+    ),
+]
 MaxIter = Annotated[
     int,
     typer.Option(

@@ -231,6 +231,10 @@ class SolverSettings(_Group):
     """Where the solve starts: ``atlas``, walk3d's own solved neighbour, then the full problem
     alone (:mod:`walk3d.solve.starts`; standing when the atlas has no entry or it fails), or
     ``standing``, the paper's method: upright standing plus noise, through the stages."""
+    descriptors_from: Literal["atlas", "solve"] = "atlas"
+    """How a handover prediction gets predicted T and Td: ``atlas``, blended from the atlas's
+    free-landing optima, then one solve; ``solve``: the free-landing solve first, then the
+    handover at its T and Td (docs/descriptors.md). Without an atlas entry: ``solve``."""
     perturbation: float = 0.05
     """Amplitude of the uniform noise on the start's free coefficients (the paper does not give
     it; an atlas start adds a fifth of it, and none for seed 0). 0.1 led more standing starts

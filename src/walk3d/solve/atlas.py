@@ -9,7 +9,9 @@ they hold no measured data.
 
 A start for speed V (the reference subject's) blends the two entries that bracket V linearly
 (the coefficients are phase-based, so a blend of two walking cycles is a walking cycle), or
-takes the nearest entry outside the atlas's speeds (:func:`candidates` lists the tries). A
+takes the nearest entry outside the atlas's speeds (:func:`candidates` lists the tries). An
+entry may also hold ``x_handover``, the handover problem's optimum at its V, T and Td: a
+handover problem starts from those (:func:`walk3d.campaign.atlas.add_handover`). A
 criterion without its own file starts from the default preset's. An atlas made by another solve
 revision, or for other model or grid settings, is never used: no start, and the reason.
 """
@@ -57,6 +59,10 @@ class Atlas:
     """s."""
     x: np.ndarray
     """(n, N_X) decision vectors (:mod:`walk3d.problem.layout`)."""
+    x_handover: np.ndarray | None
+    """(n, N_X) optima of the default problem (the handover) at each entry's V, T and Td, NaN
+    rows where an entry has none; None when the file has none
+    (:func:`walk3d.campaign.atlas.add_handover`)."""
     fingerprint: dict
     """The given-descriptor NLP's objective and constraint norm at one entry's start
     (:func:`walk3d.campaign.atlas.fingerprint`): a test compares them with the current
@@ -81,10 +87,13 @@ class AtlasStart:
     weights: tuple[float, ...]
     preset: str
     """The criterion preset of the atlas file."""
+    landing: str = "free"
+    """Which optima ``x`` blends: ``free`` (the entries' own, free landing) or ``handover``
+    (:attr:`Atlas.x_handover`, used for a handover problem when both entries have one)."""
 
     def describe(self) -> dict:
         return {"atlas_speeds": list(self.speeds), "atlas_weights": list(self.weights),
-                "atlas_preset": self.preset}  # fmt: skip
+                "atlas_preset": self.preset, "atlas_landing": self.landing}  # fmt: skip
 
 
 def settings_key(settings: PredictionSettings) -> dict:
@@ -135,10 +144,20 @@ def read_atlas(path: Path) -> Atlas:
     x = require_finite(path, "the entries' coefficients", [entries[i].get("x") for i in order])
     if x.ndim != 2 or x.shape[1] != layout.N_X:
         raise DataFileError(path, f"entries must hold {layout.N_X} coefficients")
+    x_ho = None
+    if any("x_handover" in e for e in entries):
+        rows = [entries[i].get("x_handover", [np.nan] * layout.N_X) for i in order]
+        try:
+            x_ho = np.asarray(rows, dtype=float)
+        except (TypeError, ValueError):
+            x_ho = np.zeros(0)
+        unset = np.isnan(x_ho).all(axis=1, keepdims=True) if x_ho.ndim == 2 else False
+        if x_ho.shape != x.shape or not np.all(np.isfinite(x_ho) | unset):
+            raise DataFileError(path, f"x_handover must hold {layout.N_X} finite coefficients")
     return Atlas(
         sex=data["sex"], preset=data["preset"], solve_revision=data["solve_revision"],
         settings=settings, speeds=speeds, periods=np.asarray(cols["period"])[order],
-        double_supports=np.asarray(cols["double_support"])[order], x=x,
+        double_supports=np.asarray(cols["double_support"])[order], x=x, x_handover=x_ho,
         fingerprint=data.get("fingerprint", {}), path=path,
     )  # fmt: skip
 
@@ -217,15 +236,19 @@ def candidates(
         if 0.0 < w < 1.0:
             found.append([(hi - 1, 1.0 - w), (hi, w)])
     found += [[(int(i), 1.0)] for i in near if abs(v - speeds[i]) <= MAX_EXTRAPOLATION]
-    return [_blend(atlas, pairs) for pairs in found[:tries]], None
+    return [_blend(atlas, pairs, ref.model.handover) for pairs in found[:tries]], None
 
 
-def _blend(atlas: Atlas, pairs: list[tuple[int, float]]) -> AtlasStart:
+def _blend(atlas: Atlas, pairs: list[tuple[int, float]], handover: bool = False) -> AtlasStart:
     def blend(values: np.ndarray):
         return sum(wt * values[i] for i, wt in pairs)
 
+    xs, landing = atlas.x, "free"
+    if handover and atlas.x_handover is not None:
+        if all(np.isfinite(atlas.x_handover[i]).all() for i, _ in pairs):
+            xs, landing = atlas.x_handover, "handover"
     return AtlasStart(
-        x=np.asarray(blend(atlas.x), dtype=float), period=float(blend(atlas.periods)),
+        x=np.asarray(blend(xs), dtype=float), landing=landing, period=float(blend(atlas.periods)),
         double_support=float(blend(atlas.double_supports)),
         speeds=tuple(float(atlas.speeds[i]) for i, _ in pairs),
         weights=tuple(round(wt, 6) for _, wt in pairs), preset=atlas.preset,

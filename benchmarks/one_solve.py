@@ -1,0 +1,99 @@
+"""Issue #42's timing targets: ``python benchmarks/one_solve.py [--modes atlas solve given]``.
+
+``walk3d predict`` end to end (a fresh process, ``/usr/bin/time``-like wall time from process
+start to exit) on five descriptor sets of both sexes at 0.9-1.7 m/s, each with T and Td
+predicted (``--descriptors-from atlas``, the default: one solve; ``solve``: the free landing
+solved first, then the handover) and with T and Td given (one solve either way). The model
+cache is warm (a first run fills it and is not counted), nothing is compiled, runs go one at a
+time, with ``OPENBLAS_NUM_THREADS=1``. Records per run: wall time, exit code, convergence,
+iterations, the predicted T and Td and ``looks_like_walking``; and the medians per mode.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+_HERE = str(Path(__file__).resolve().parent)
+if _HERE not in sys.path:
+    sys.path.insert(0, _HERE)
+import environment  # noqa: E402
+
+NAME = "one_solve"
+SETS = {
+    # name: (V m/s, mass kg, height m, sex, T s, Td s): T and Td given from published normative
+    # cadence for the speed (not from walk3d)
+    "f_0.9": (0.9, 55.0, 1.60, "female", 1.22, 0.17),
+    "m_1.1": (1.1, 80.0, 1.85, "male", 1.18, 0.15),
+    "f_1.3": (1.3, 65.0, 1.68, "female", 1.04, 0.12),
+    "m_1.5": (1.5, 72.0, 1.78, "male", 1.02, 0.11),
+    "f_1.7": (1.7, 60.0, 1.72, "female", 0.96, 0.10),
+}
+
+
+def run(out: Path, args: list[str], cache: Path) -> dict:
+    env = dict(os.environ, WALK3D_CACHE_DIR=str(cache), OPENBLAS_NUM_THREADS="1")
+    cmd = [sys.executable, "-m", "walk3d.cli", "predict", "--out", str(out), *args]
+    t0 = time.perf_counter()
+    proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
+    row = {"wall_s": round(time.perf_counter() - t0, 2), "exit_code": proc.returncode}
+    path = out / "summary.json"
+    if path.is_file():
+        s = json.loads(path.read_text())
+        d = s["descriptors"]
+        row.update(converged=s["converged"], iterations=s["iterations"],
+                   period_s=round(d["period"], 4), double_support_s=round(d["double_support"], 4),
+                   predicted_by=d.get("predicted_by"), solve_s=round(s["wall_time_s"], 2),
+                   walks=s["gait_checks"].get("looks_like_walking"))  # fmt: skip
+    else:
+        row["stderr_tail"] = proc.stderr[-300:]
+    return row
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument(
+        "--modes",
+        nargs="+",
+        default=["atlas", "solve", "given"],
+        help="atlas / solve: T and Td predicted that way; given: T and Td given",
+    )
+    ap.add_argument("--cache", help="model cache folder to use (default: a new one, filled first)")
+    environment.add_output_arguments(ap, NAME)
+    args = ap.parse_args(argv)
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="walk3d-one-solve-") as tmp:
+        root = Path(tmp)
+        cache = Path(args.cache) if args.cache else root / "cache"
+        for sex in ("female", "male"):  # fill the cache: not counted
+            run(root / f"fill-{sex}", ["--sex", sex], cache)
+        for name, (v, m, h, sex, t, td) in SETS.items():
+            common = ["--speed", str(v), "--mass", str(m), "--height", str(h), "--sex", sex]
+            for mode in args.modes:
+                extra = (["--period", str(t), "--double-support", str(td)] if mode == "given"
+                         else ["--descriptors-from", mode])  # fmt: skip
+                row = {"set": name, "mode": mode, **run(root / f"{name}-{mode}", common + extra,
+                                                         cache)}  # fmt: skip
+                rows.append(row)
+                print(json.dumps(row), flush=True)
+    medians = {m: statistics.median(r["wall_s"] for r in rows if r["mode"] == m)
+               for m in args.modes}  # fmt: skip
+    print(f"median end-to-end wall time, s: {medians}")
+    result = {environment.KEY: environment.environment(), "sets": SETS, "runs": rows,
+              "median_wall_s": medians}  # fmt: skip
+    path = environment.output_path(args, NAME)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(result, indent=2) + "\n")
+    print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
