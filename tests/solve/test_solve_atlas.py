@@ -147,6 +147,35 @@ def test_an_atlas_entry_is_the_optimum_of_its_problem(monkeypatch):
         forget_solvers()  # no solver of the patched grid stays cached for later tests
 
 
+@pytest.mark.solve
+def test_an_entry_handover_optimum_is_feasible_for_the_handover_problem():
+    """``x_handover`` at 1.4 m/s meets the handover problem's rows at the entry's V, T and Td
+    to the entry tolerance (:func:`walk3d.campaign.atlas.add_handover` solved it to 1e-8).
+    Negative control: the entry's free-landing optimum does not."""
+    from walk3d.solve.ipopt import _z_from_x, build_solver, full_stage_start
+    from walk3d.solve.progress import bound_violation
+    from walk3d.solve.solver import forget_solvers
+
+    a = atlas.load_atlas("male", "natural")
+    i = int(np.argmin(np.abs(a.speeds - 1.4)))
+    given = atlas_settings("male", "natural").replace(
+        handover=True, free=(), speed=float(a.speeds[i]), period=float(a.periods[i]),
+        double_support=float(a.double_supports[i]))  # fmt: skip
+
+    def worst(x):
+        solver = build_solver(given)
+        z = full_stage_start(solver, _z_from_x(solver, np.asarray(x)))
+        b = solver.nlp_bounds("full")
+        g = np.array(solver.constraints(z)).ravel()
+        return max(bound_violation(z, b.lbz, b.ubz), bound_violation(g, b.lbg, b.ubg))
+
+    try:
+        assert worst(a.x_handover[i]) <= ENTRY_TOLERANCE
+        assert worst(a.x[i]) > 1e-3
+    finally:
+        forget_solvers()
+
+
 @pytest.mark.parametrize("free", [("period",), ("double_support",)])
 def test_a_given_descriptor_keeps_its_value_in_an_atlas_start(monkeypatch, free):
     """With one descriptor predicted, the atlas start takes the entry's value of that one only;
