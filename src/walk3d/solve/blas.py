@@ -23,8 +23,8 @@ or ``nm``; or IPOPT was already loaded in this process. Results are the same up 
 like the compiled derivatives, a different rounding can move IPOPT's path.
 
 The library is built once per CasADi and ``scipy-openblas32`` version into the model cache
-folder (:func:`walk3d.solve.model_cache.cache_dir`), atomically: about 4 s, most of it ``nm``
-reading CasADi's libraries; later processes load it in milliseconds.
+folder (:func:`walk3d.solve.model_cache.cache_dir`), atomically: well under a second (one
+``nm`` call reads CasADi's libraries); later processes load it in milliseconds.
 """
 
 from __future__ import annotations
@@ -88,10 +88,12 @@ def _mapped(path: Path) -> bool:
     return str(path.resolve()) in maps
 
 
-def _functions(nm: str, lib: Path, undefined: bool) -> set[str]:
-    """Dynamic function symbols ``lib`` defines (text) or takes from elsewhere."""
+def _functions(nm: str, libs: Path | list[Path], undefined: bool) -> set[str]:
+    """Dynamic function symbols that ``libs`` define (text) or take from elsewhere, read by one
+    ``nm`` call for all of them (one call per library took seconds over CasADi's 200-odd)."""
     flag = "--undefined-only" if undefined else "--defined-only"
-    run = subprocess.run([nm, "-D", flag, str(lib)], capture_output=True, text=True, check=False)
+    files = [str(f) for f in (libs if isinstance(libs, list) else [libs])]
+    run = subprocess.run([nm, "-D", flag, *files], capture_output=True, text=True, check=False)
     out = set()
     for line in run.stdout.splitlines():
         parts = line.split()
@@ -105,11 +107,9 @@ def _functions(nm: str, lib: Path, undefined: bool) -> set[str]:
 def _needed(nm: str, bundled: Path) -> set[str]:
     """The functions CasADi's libraries take from their bundled OpenBLAS."""
     provided = _functions(nm, bundled, undefined=False)
-    wanted: set[str] = set()
-    for lib in bundled.parent.glob("*.so*"):
-        if lib.is_file() and not lib.is_symlink() and lib.resolve() != bundled.resolve():
-            wanted |= _functions(nm, lib, undefined=True)
-    return wanted & provided
+    libs = sorted(lib for lib in bundled.parent.glob("*.so*")
+                  if lib.is_file() and not lib.is_symlink() and lib.resolve() != bundled.resolve())
+    return _functions(nm, libs, undefined=True) & provided if libs else set()
 
 
 def _assembly(names: list[str]) -> str:
