@@ -37,9 +37,11 @@ def _run(fn: ca.Function, z0: np.ndarray, b) -> np.ndarray:
 @pytest.mark.model
 def test_solver_from_cache_equals_a_fresh_one(cache_dir):
     fresh = solver._build.__wrapped__(SETTINGS, "ipopt", True)  # empty cache: built and stored
-    assert not fresh.from_cache and len(list(cache_dir.glob("model-*.casadi"))) == 1
+    assert not list(cache_dir.glob("model-*.casadi"))  # nothing is made before it is used
+    made = [fresh.functions[n] for n in fresh.functions]
+    assert not fresh.from_cache and len(list(cache_dir.glob("model-*.casadi"))) == len(made) == 7
     cached = solver._build.__wrapped__(SETTINGS, "ipopt", True)
-    assert cached.from_cache
+    assert [cached.functions[n] for n in cached.functions] and cached.from_cache
     z0 = ipopt.initial_guess(fresh, 0)
     np.testing.assert_array_equal(z0, ipopt.initial_guess(cached, 0))
     # the full NLP's values and derivatives (the custom grad_f, jac_g, hess_lag) at one point
@@ -65,16 +67,39 @@ def test_solver_from_cache_equals_a_fresh_one(cache_dir):
 
 @pytest.mark.model
 def test_a_damaged_entry_is_rebuilt_and_rewritten(cache_dir, caplog, recorded):
-    body = body_for(SETTINGS)
-    model_cache.write_functions(_key(SETTINGS), recorded[0])
-    _, hit = solver._model_functions(body, SETTINGS.model, True)
-    assert hit
+    body, key = body_for(SETTINGS), _key(SETTINGS)
+    model_cache.write_functions(f"{key}-loop", {"loop": recorded[0]["loop"]})
+    lazy = solver._model_functions(body, SETTINGS.model, True)
+    assert lazy["loop"].serialize() == recorded[0]["loop"].serialize() and lazy.hits == {"loop"}
     (entry,) = cache_dir.glob("model-*.casadi")
     text = entry.read_text()
     entry.write_text(text[: len(text) // 2] + "x" + text[len(text) // 2 + 1 :])
-    functions, hit = solver._model_functions(body, SETTINGS.model, True)
-    assert not hit and "damaged" in caplog.text
-    assert set(functions) == set(model_cache.read_functions(_key(SETTINGS)))  # rewritten
+    again = solver._model_functions(body, SETTINGS.model, True)
+    assert again["loop"].serialize() == recorded[0]["loop"].serialize()
+    assert again.misses == {"loop"} and not again.hits and "damaged" in caplog.text
+    assert set(model_cache.read_functions(f"{key}-loop")) == {"loop"}  # rewritten
+
+
+def test_lazy_functions_are_made_once_on_first_use_and_read_back_from_the_cache(cache_dir):
+    built = []
+    small = _small_functions()
+
+    def build(name):
+        built.append(name)
+        return small[name]
+
+    lazy = model_cache.LazyFunctions(("f", "g"), build, "0123456789abcdef")
+    assert len(lazy) == 2 and list(lazy) == ["f", "g"] and not built
+    assert lazy["f"] is lazy["f"] and built == ["f"] and lazy.misses == {"f"}
+    again = model_cache.LazyFunctions(("f", "g"), build, "0123456789abcdef")
+    x = np.array([0.1, -0.2, 0.3])
+    np.testing.assert_array_equal(np.array(again["f"](x)), np.array(small["f"](x)))
+    assert built == ["f"] and again.hits == {"f"}  # read back, not built
+    assert again["g"] is small["g"] and built == ["f", "g"]  # negative control: not cached yet
+    with pytest.raises(KeyError):
+        lazy["h"]
+    off = model_cache.LazyFunctions(("f",), build, None)  # no key: the cache is off
+    assert off["f"] is small["f"] and off.misses == {"f"} and built == ["f", "g", "f"]
 
 
 @pytest.mark.parametrize(

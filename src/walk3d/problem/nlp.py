@@ -1,20 +1,17 @@
 """The optimization problem (paper section 2.5) in lifted form for CasADi.
 
-Decision variables of the NLP: ``z = [x (166, see layout), vec(Y) (N nodes × 78), W0 (6),
-vec(T) (N nodes × 24)]`` (column-major: node k's block is contiguous).
-
-* ``Y_k`` holds the 26 coordinates at node k with their first and second derivatives
-  (``[values, rates, accelerations]``), tied to the Fourier coefficients by the linear equalities
-  ``Y_k = A_k x`` ("lifted" form: the Hessian is block-diagonal per node).
-* ``W0`` is the total ground reaction at right heel strike (node 0), the trailing left foot's
-  initial load in double support, in units of body weight (moment about the left ankle, × 1 m).
-* ``T_k`` holds one slack per DoF for the criterion's absolute values (:func:`node_function`).
+Decision variables: ``z = [x (166, see layout), vec(Y) (N nodes × 78), W0 (6), vec(T) (N × 24)]``
+(column-major: node k's block is contiguous). ``Y_k``: the 26 coordinates at node k with their
+first and second derivatives, tied to the coefficients by ``Y_k = A_k x`` ("lifted": the Hessian
+is block-diagonal per node). ``W0``: the total ground reaction at right heel strike, the
+trailing foot's initial load, in body weights (moment about the left ankle, × 1 m). ``T_k``: one
+slack per DoF for the criterion's absolute values (:func:`node_function`).
 
 Nodes cover the half cycle in which the right foot is the root: ``t_k = t_hs_r + k T/(2N)``,
 ``k = 0..N-1``. The closed loop in double support (the trailing left foot on its own roll-over
-path, half a stride behind) also joins the mirrored second half continuously: seen from the
-left foot, the same loop holds at the left heel strike. Symmetry makes the full-cycle criterion
-twice the half-cycle sum. Per-node constraints (:data:`G_ROWS`) are bounded where they apply.
+path, half a stride behind) also joins the mirrored second half continuously. Symmetry makes the
+full-cycle criterion twice the half-cycle sum. Node rows (:data:`G_ROWS`) are bounded where they
+apply.
 """
 
 from __future__ import annotations
@@ -42,8 +39,7 @@ from walk3d.problem.schedule import (
 )
 from walk3d.problem.settings import ModelSettings, PredictionSettings, ratios_for
 
-N_Y = layout.N_Y
-G_ROWS, N_G, N_T, N_P = layout.G_ROWS, layout.N_G, layout.N_T, layout.N_P
+N_Y, G_ROWS, N_G, N_T, N_P = layout.N_Y, layout.G_ROWS, layout.N_G, layout.N_T, layout.N_P
 BALL_NORM_MAX = 0.97
 EN_SCALE = 100.0  # C_en is divided by this in the solver's objective (J -> O(1))
 
@@ -268,17 +264,19 @@ def _node_name(dynamics: bool, balance: bool, with_hs: bool) -> str:
     return f"node_d{int(dynamics)}b{int(balance)}h{int(with_hs)}"
 
 
-def model_functions(body: BodyModel, model: ModelSettings) -> dict[str, ca.Function]:
-    """The SX functions the NLPs of :data:`STAGES` call, by name: two node functions per stage
-    (with and without the heel-strike rows) and the loop function. Built in Python, they are
-    the part of a build CasADi reads back quickly, so :mod:`walk3d.solve.model_cache` keeps them.
-    """
-    fns = {"loop": loop_function(body, model)}
-    for dynamics, balance in STAGES.values():
-        for with_hs in (True, False):
-            fn = node_function(body, model, dynamics, with_hs=with_hs, balance=balance)
-            fns[_node_name(dynamics, balance, with_hs)] = fn
-    return fns
+MODEL_FUNCTIONS = ("loop", *(_node_name(*s, h) for s in STAGES.values() for h in (True, False)))
+
+
+def model_functions(
+    body: BodyModel, model: ModelSettings, names: tuple[str, ...] = MODEL_FUNCTIONS
+) -> dict[str, ca.Function]:
+    """The SX functions the NLPs of :data:`STAGES` call, by name (``names``; default all): two
+    node functions per stage (with and without the heel-strike rows) and the loop function.
+    Built in Python, they are the part of a build CasADi reads back quickly, so
+    :mod:`walk3d.solve.model_cache` keeps them."""
+    flag = {n: [n[k : k + 1] == "1" for k in (6, 8, 10)] for n in names}  # dynamics, balance, hs
+    return {n: loop_function(body, model) if n == "loop" else node_function(
+        body, model, d, with_hs=h, balance=b) for n, (d, b, h) in flag.items()}  # fmt: skip
 
 
 @dataclass(frozen=True)

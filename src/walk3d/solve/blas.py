@@ -107,8 +107,11 @@ def _functions(nm: str, libs: Path | list[Path], undefined: bool) -> set[str]:
 def _needed(nm: str, bundled: Path) -> set[str]:
     """The functions CasADi's libraries take from their bundled OpenBLAS."""
     provided = _functions(nm, bundled, undefined=False)
-    libs = sorted(lib for lib in bundled.parent.glob("*.so*")
-                  if lib.is_file() and not lib.is_symlink() and lib.resolve() != bundled.resolve())
+    libs = sorted(
+        lib
+        for lib in bundled.parent.glob("*.so*")
+        if lib.is_file() and not lib.is_symlink() and lib.resolve() != bundled.resolve()
+    )
     return _functions(nm, libs, undefined=True) & provided if libs else set()
 
 

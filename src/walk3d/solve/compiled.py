@@ -104,6 +104,14 @@ def _library(key: str, name: str) -> Path:
     return cache_dir() / f"lib-{key}-{name}.so"
 
 
+def any_libraries() -> bool:
+    """Whether the cache folder holds any compiled library (none: nothing to look up)."""
+    try:
+        return any(cache_dir().glob("lib-*.so"))
+    except OSError:
+        return False
+
+
 def load_functions(key: str, names: list[str]) -> dict[str, ca.Function] | None:
     """The compiled functions ``names`` stored under ``key``, or None unless all load."""
     out = {}

@@ -11,7 +11,9 @@ kept, because CasADi's serialization reads it back more slowly than it is built
 * the ``nlpsol`` objects themselves (they serialize, custom ``grad_f``/``jac_g``/``hess_lag``
   options included, but to hundreds of MB).
 
-An entry is one ASCII file ``model-<key>.casadi``: a header line ``walk3d-model-cache <schema>
+Each function is built, and read or written, on first use (:class:`LazyFunctions`): a start
+from the atlas needs only the full stage's node functions, three of the seven. An entry is one
+ASCII file ``model-<key>-<name>.casadi`` per function: a header line ``walk3d-model-cache <schema>
 <sha256 of the rest>``, then a :class:`casadi.StringSerializer` payload (the key, the names,
 the functions). It is written through :func:`walk3d.io._atomic.atomic_write_text` (temporary
 file, then ``os.replace``), so concurrent campaign workers never read half an entry; the
@@ -33,6 +35,8 @@ import hashlib
 import logging
 import os
 import sys
+import threading
+from collections.abc import Callable, Iterator, Mapping
 from functools import cache
 from pathlib import Path
 
@@ -42,11 +46,12 @@ import numpy as np
 from walk3d import constants
 from walk3d.io._atomic import atomic_write_text
 
-__all__ = ["SCHEMA", "cache_dir", "cache_enabled", "cache_entries", "cache_usage",
+__all__ = ["SCHEMA", "LazyFunctions", "cache_dir", "cache_enabled", "cache_entries", "cache_usage",
            "clear_entries", "model_key", "read_functions", "write_functions"]  # fmt: skip
 
-SCHEMA = 1
-"""Raise when the entry format or the set of cached functions changes."""
+SCHEMA = 2
+"""Raise when the entry format or the set of cached functions changes (2: one entry per
+function)."""
 ENV_DIR = "WALK3D_CACHE_DIR"
 ENV_SWITCH = "WALK3D_CACHE"
 _MAGIC = "walk3d-model-cache"
@@ -219,3 +224,41 @@ def clear_entries() -> tuple[int, int]:
                 continue
             files, size = files + 1, size + n
     return files, size
+
+
+class LazyFunctions(Mapping[str, ca.Function]):
+    """The functions ``names`` by name, each made on first use: read from the entry
+    ``<key>-<name>`` when ``key`` is given and the entry is good, else ``build(name)`` (then
+    written there). Thread-safe; :attr:`hits` and :attr:`misses` name the entries read and
+    rebuilt."""
+
+    def __init__(self, names: tuple[str, ...], build: Callable[[str], ca.Function],
+                 key: str | None) -> None:  # fmt: skip
+        self._names, self._build, self._key = names, build, key
+        self._made: dict[str, ca.Function] = {}
+        self._lock = threading.Lock()
+        self.hits: set[str] = set()
+        self.misses: set[str] = set()
+
+    def __getitem__(self, name: str) -> ca.Function:
+        if name not in self._names:
+            raise KeyError(name)
+        with self._lock:
+            if name not in self._made:
+                entry = f"{self._key}-{name}"
+                found = read_functions(entry) if self._key else None
+                if found is not None and name in found:
+                    self._made[name] = found[name]
+                    self.hits.add(name)
+                else:
+                    self._made[name] = self._build(name)
+                    self.misses.add(name)
+                    if self._key:
+                        write_functions(entry, {name: self._made[name]})
+            return self._made[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._names)
+
+    def __len__(self) -> int:
+        return len(self._names)

@@ -14,7 +14,7 @@ import inspect
 import threading
 import time
 import weakref
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cache
 
@@ -71,8 +71,9 @@ class Solver:
     settings: PredictionSettings
     body: BodyModel
     method: str
-    functions: dict[str, ca.Function]
-    """The model's SX functions (:func:`walk3d.problem.nlp.model_functions`)."""
+    functions: Mapping[str, ca.Function]
+    """The model's SX functions (:func:`walk3d.problem.nlp.model_functions`), each made on first
+    use (:class:`walk3d.solve.model_cache.LazyFunctions`)."""
     bounds: Bounds
     bounds_balance: Bounds
     bounds_posture: Bounds
@@ -87,8 +88,6 @@ class Solver:
     bounds_free: Bounds | None = None
     """The full NLP's bounds with the predicted descriptors free (``settings.gait.free``; the
     other NLPs pin them at the first guess), for the last stage; None without."""
-    from_cache: bool = False
-    """Whether the model's SX functions were read from the on-disk cache."""
     compiled: dict[str, derivatives.NodeDerivs] = field(default_factory=dict, repr=False)
     """Compiled ``(jac, grad, hess)`` of the mapped node function, by NLP kind (those found in
     the cache at build time; :func:`compile_solver` makes them)."""
@@ -111,6 +110,12 @@ class Solver:
             rows["free"], reporters["free"] = rows["full"], reporters["full"]
         object.__setattr__(self, "stage_rows", rows)
         object.__setattr__(self, "reporters", reporters)
+
+    @property
+    def from_cache(self) -> bool:
+        """Whether every model function made so far was read from the on-disk cache."""
+        f = self.functions
+        return isinstance(f, model_cache.LazyFunctions) and bool(f.hits) and not f.misses
 
     def _lock_for(self, key: str) -> threading.Lock:
         with self._lock:
@@ -211,17 +216,13 @@ def _model_key(body: BodyModel, model: ModelSettings) -> str:
 
 def _model_functions(
     body: BodyModel, model: ModelSettings, use_cache: bool
-) -> tuple[dict[str, ca.Function], bool]:
-    """The model's SX functions, from the disk cache when possible: ``(functions, from_cache)``."""
-    if not use_cache:
-        return nlp.model_functions(body, model), False
-    key = _model_key(body, model)
-    functions = model_cache.read_functions(key)
-    if functions is not None:
-        return functions, True
-    functions = nlp.model_functions(body, model)
-    model_cache.write_functions(key, functions)
-    return functions, False
+) -> model_cache.LazyFunctions:
+    """The model's SX functions (:func:`walk3d.problem.nlp.model_functions`), each made on first
+    use, from the disk cache when ``use_cache`` and it has the function."""
+    key = _model_key(body, model) if use_cache else None
+    return model_cache.LazyFunctions(
+        nlp.MODEL_FUNCTIONS, lambda name: nlp.model_functions(body, model, (name,))[name], key
+    )
 
 
 def _compiled_key(fns: dict[str, ca.Function], settings: PredictionSettings, kind: str) -> str:
@@ -254,10 +255,13 @@ def _chunk_functions(settings: PredictionSettings, fns: dict[str, ca.Function],
 
 
 def _load_compiled(
-    settings: PredictionSettings, fns: dict[str, ca.Function]
+    settings: PredictionSettings, fns: Mapping[str, ca.Function]
 ) -> dict[str, derivatives.NodeDerivs]:
-    """The compiled node derivatives found in the cache, as ``(jac, grad, hess)`` by kind."""
-    out = {}
+    """The compiled node derivatives found in the cache, as ``(jac, grad, hess)`` by kind. With
+    no library in the cache, no key is made (a key serializes, and so makes, a node function)."""
+    out: dict[str, derivatives.NodeDerivs] = {}
+    if not compiled.any_libraries():
+        return out
     for kind in COMPILED_NODES:
         libs = compiled.load_functions(_compiled_key(fns, settings, kind), _chunk_names(kind))
         if libs is None:
@@ -276,7 +280,7 @@ def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool 
     if settings.gait.free:
         free_nlp.check_supported(settings)
     body = body_for(settings)
-    fns, hit = _model_functions(body, settings.model, use_cache)
+    fns = _model_functions(body, settings.model, use_cache)
     sch = schedule(settings)
     lift = lifting_maps(settings, sch)
     # only IPOPT takes the structured derivatives (_with_derivatives): sqp needs no libraries
@@ -289,7 +293,7 @@ def _build(settings: PredictionSettings, method: str = "ipopt", use_cache: bool 
         bounds_free=bounds(body, settings, sch, free=True) if settings.gait.free else None,
         lift=lift, schedule=sch, layout=nlp_layout(body, settings, sch),
         plan=default_plan(settings.solver, settings.model.criterion),
-        build_time_s=time.perf_counter() - t0, from_cache=hit, compiled=comp,
+        build_time_s=time.perf_counter() - t0, compiled=comp,
     )  # fmt: skip
 
 
@@ -328,7 +332,7 @@ def compiled_status(settings: PredictionSettings) -> dict:
     solves of these settings (those of the reference subject, :mod:`walk3d.problem.similarity`,
     so the same for every mass and stature)."""
     settings = similarity.reference_problem(settings)[0]
-    fns, _ = _model_functions(body_for(settings), settings.model, True)
+    fns = _model_functions(body_for(settings), settings.model, True)
     kinds = [k for k in COMPILED_NODES if compiled.load_functions(
         _compiled_key(fns, settings, k), _chunk_names(k)) is not None]  # fmt: skip
     return {"compiled": kinds, "missing": 2 * CHUNKS * (len(COMPILED_NODES) - len(kinds))}
@@ -362,7 +366,7 @@ def compile_solver(
     if settings.model.handover and settings.gait.free:
         models.insert(0, settings.model.model_copy(update={"handover": False}))
     for model in models:
-        fns, _ = _model_functions(body, model, True)
+        fns = _model_functions(body, model, True)
         solved = settings.model_copy(update={"model": model})
         for kind in COMPILED_NODES:
             key = _compiled_key(fns, solved, kind)
