@@ -14,7 +14,7 @@ from walk3d.solve import compiled, model_cache, solver
 
 pytestmark = pytest.mark.model
 
-SETTINGS = PredictionSettings(nodes=6, criterion="en")
+SETTINGS = PredictionSettings(nodes=6, criterion="en", start="standing")
 
 
 @pytest.fixture
@@ -39,6 +39,7 @@ def fake_compiler(tmp_path, monkeypatch):
 
     monkeypatch.setattr(compiled, "compile_functions", compile_functions)
     monkeypatch.setattr(compiled, "load_functions", load_functions)
+    monkeypatch.setattr(compiled, "any_libraries", lambda: bool(store))
     solver._build.cache_clear()
     yield calls
     solver._build.cache_clear()
@@ -94,3 +95,13 @@ def test_compiled_libraries_follow_the_node_functions(fake_compiler):
     assert solver.compiled_status(other_criterion)["missing"] == 6 * solver.CHUNKS
     for same in ({"nodes": 8, "threads": 2}, {"speed": 1.2}, {"mass": 80.0, "height": 1.6}):
         assert solver.compiled_status(SETTINGS.replace(**same))["missing"] == 0
+
+
+def test_a_start_from_the_atlas_compiles_the_full_nlp_alone(fake_compiler):
+    """The atlas start runs only the full NLP: its node 0 and other nodes are compiled, the
+    balance NLP's are not (negative control: standing starts compile all three)."""
+    atlas = SETTINGS.replace(start="atlas")
+    assert solver.compiled_status(atlas)["missing"] == 4 * solver.CHUNKS
+    assert solver.compile_solver(atlas)["compiled"] == 4 * solver.CHUNKS
+    assert solver.compiled_status(atlas) == {"compiled": ["full", "full_hs"], "missing": 0}
+    assert solver.compiled_status(SETTINGS)["missing"] == 2 * solver.CHUNKS  # balance left

@@ -19,6 +19,7 @@ The values equal CasADi's own derivatives (``tests/problem/test_problem_derivati
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import casadi as ca
@@ -160,16 +161,19 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     cols = [lay.node_columns(k) for k in range(n)]
     v0 = z[cols[0].tolist()]
     vr = ca.reshape(z[np.concatenate(cols[1:]).tolist()], N_V, n - 1)
-    jn, dn, hn = pc.node_derivs or node_derivatives(pc.node, pc.crit)
-    h_one = assemble(hn, "walk3d_node_hess") if isinstance(hn, list) else hn  # one node
     same = pc.node0 is pc.node
-    if same:
-        j0, d0, h0 = jn, dn, h_one
-    elif pc.node0_derivs is not None:
-        j0, d0, h0 = pc.node0_derivs
-        h0 = assemble(h0, "walk3d_node0_hess") if isinstance(h0, list) else h0
-    else:
-        j0, d0, h0 = node_derivatives(pc.node0, pc.crit)
+    with ThreadPoolExecutor(1) as pool:  # node 0's derivatives beside the others' (no GIL)
+        first = None if same or pc.node0_derivs else pool.submit(node_derivatives, pc.node0,
+                                                                 pc.crit)  # fmt: skip
+        jn, dn, hn = pc.node_derivs or node_derivatives(pc.node, pc.crit)
+        h_one = assemble(hn, "walk3d_node_hess") if isinstance(hn, list) else hn  # one node
+        if same:
+            j0, d0, h0 = jn, dn, h_one
+        elif pc.node0_derivs is not None:
+            j0, d0, h0 = pc.node0_derivs
+            h0 = assemble(h0, "walk3d_node0_hess") if isinstance(h0, list) else h0
+        else:
+            j0, d0, h0 = first.result()
     params = pc.params if isinstance(pc.params, ca.MX) else ca.DM(pc.params)
     pr, p0 = params[:, 1:], params[:, 0]
 

@@ -14,9 +14,10 @@ minutes (:func:`compile_functions`), and only :func:`walk3d.solve.solver.compile
 (``walk3d compile``, campaigns) asks for it.
 
 The compiler is ``$CC``, else ``cc`` or ``gcc`` on the ``PATH``; its flags are ``$WALK3D_CFLAGS``,
-else ``-O1``: -O2 does not finish on these large functions in reasonable time, and
-``-O1 -march=native`` is only about a tenth faster while its libraries run on one CPU only
-(they are keyed to the CPU; docs/solver.md).
+else ``-O0``: the default problem's derivatives compile in about 4 minutes on 2 cores, where
+-O1 takes over 4 times as long for a faster block but a solve only slightly faster (IPOPT's
+linear algebra stays); -O2 does not finish on these large functions in reasonable time, and
+``-O1 -march=native`` runs on one CPU only (keyed to the CPU; docs/solver.md).
 Without a compiler the solver keeps CasADi's virtual machine (same results).
 """
 
@@ -43,7 +44,7 @@ __all__ = ["CompileError", "build_library", "compile_functions", "compiler", "fl
 
 ENV_CC = "CC"
 ENV_FLAGS = "WALK3D_CFLAGS"
-DEFAULT_FLAGS = ("-O1",)
+DEFAULT_FLAGS = ("-O0",)
 log = logging.getLogger(__name__)
 
 
@@ -73,7 +74,7 @@ def require_compiler() -> list[str]:
 
 
 def flags() -> tuple[str, ...]:
-    """Optimization flags: ``$WALK3D_CFLAGS`` if set, else ``-O1``."""
+    """Optimization flags: ``$WALK3D_CFLAGS`` if set, else ``-O0``."""
     env = os.environ.get(ENV_FLAGS)
     return tuple(shlex.split(env)) if env is not None else DEFAULT_FLAGS
 

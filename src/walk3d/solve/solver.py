@@ -327,15 +327,23 @@ def forget_solvers() -> None:
     _build.cache_clear()
 
 
+def _compile_kinds(settings: PredictionSettings) -> list[str]:
+    """The NLP kinds compiled for ``settings``: the full NLP's node 0 and other nodes, and the
+    balance NLP's only for standing starts (a start from the atlas runs the full NLP alone)."""
+    return [k for k in ("full_hs", "full", "balance")
+            if k != "balance" or settings.solver.start == "standing"]  # fmt: skip
+
+
 def compiled_status(settings: PredictionSettings) -> dict:
-    """``{"compiled": [kinds], "missing": number of libraries still to compile}`` for the
-    solves of these settings (those of the reference subject, :mod:`walk3d.problem.similarity`,
-    so the same for every mass and stature)."""
+    """``{"compiled": [kinds], "missing": libraries :func:`compile_solver` still has to
+    compile}`` for the solves of these settings (those of the reference subject,
+    :mod:`walk3d.problem.similarity`, so the same for every mass and stature)."""
     settings = similarity.reference_problem(settings)[0]
     fns = _model_functions(body_for(settings), settings.model, True)
     kinds = [k for k in COMPILED_NODES if compiled.load_functions(
         _compiled_key(fns, settings, k), _chunk_names(k)) is not None]  # fmt: skip
-    return {"compiled": kinds, "missing": 2 * CHUNKS * (len(COMPILED_NODES) - len(kinds))}
+    todo = [k for k in _compile_kinds(settings) if k not in kinds]
+    return {"compiled": kinds, "missing": 2 * CHUNKS * len(todo)}
 
 
 def compile_solver(
@@ -343,9 +351,9 @@ def compile_solver(
     on_done: Callable[[str, int, int], None] | None = None,
     jobs: int | None = None,
 ) -> dict:
-    """Compile the node derivatives of the balance and full NLPs to C and store them in the
-    cache (:mod:`walk3d.solve.compiled`), unless already there; later :func:`build_solver` calls
-    load them. Minutes of compiling, once, for a solve
+    """Compile the node derivatives of the full NLP (and of the balance NLP, for standing starts)
+    to C and store them in the cache (:mod:`walk3d.solve.compiled`), unless already there; later
+    :func:`build_solver` calls load them. Minutes of compiling, once, for a solve
     about twice as fast (docs/solver.md). ``on_done(name, done, total)`` after each library.
     Returns ``{"compiled": number compiled now, "wall_time_s": ...}``; raises
     :class:`walk3d.solve.compiled.CompileError` when there is no compiler or it fails.
@@ -361,14 +369,16 @@ def compile_solver(
         if on_done:
             on_done(name, i, n)
 
-    # with the handover and predicted T and Td, the free landing is solved first (solve.landing)
+    # the free landing is solved first only with descriptors_from = solve (solve.landing)
     models = [settings.model]
-    if settings.model.handover and settings.gait.free:
+    sv = settings.solver
+    if settings.model.handover and settings.gait.free and sv.descriptors_from == "solve":
         models.insert(0, settings.model.model_copy(update={"handover": False}))
+    kinds = _compile_kinds(settings)
     for model in models:
         fns = _model_functions(body, model, True)
         solved = settings.model_copy(update={"model": model})
-        for kind in COMPILED_NODES:
+        for kind in kinds:
             key = _compiled_key(fns, solved, kind)
             if compiled.load_functions(key, _chunk_names(kind)) is None:
                 compiled.compile_functions(key, _chunk_functions(solved, fns, kind), jobs, report)
