@@ -292,3 +292,43 @@ def test_a_handover_problem_starts_from_the_entries_handover_optima(tmp_path):
     atlas._read.cache_clear()
     with pytest.raises(ValueError, match="x_handover"):
         atlas.read_atlas(path)
+
+
+def _write_warm(root, speeds, masks):
+    n = len(speeds)
+    np.savez(atlas.warm_path(atlas.atlas_path("male", "natural", root)), speeds=np.array(speeds),
+             z=np.outer(speeds, np.ones(4)), lam_x=-np.outer(speeds, np.ones(4)),
+             lam_g=np.outer(speeds, np.arange(5.0)), rows=np.array(masks[:n]))  # fmt: skip
+
+
+def test_a_handover_start_blends_the_entries_primal_dual_points(tmp_path):
+    _write(tmp_path, [1.0, 1.2, 1.4])
+    path = atlas.atlas_path("male", "natural", tmp_path)
+    data = json.loads(path.read_text())
+    for e in data["entries"]:
+        e["x_handover"] = [0.0] * layout.N_X
+    path.write_text(json.dumps(data))
+    same = [True, False, True, True, False]
+    _write_warm(tmp_path, [1.2, 1.4], [same, same])
+    start = atlas.start_for(_ref(1.25, handover=True), tmp_path)[0]
+    np.testing.assert_allclose(start.warm["z"], 1.25)
+    np.testing.assert_allclose(start.warm["lam_x"], -1.25)
+    np.testing.assert_allclose(start.warm["lam_g"], 1.25 * np.array([0.0, 2.0, 3.0]))  # kept rows
+    np.testing.assert_array_equal(start.warm["rows"], [0, 2, 3])
+    # negative controls: an entry without one, other stage rows, a damaged file, the free landing
+    assert atlas.start_for(_ref(1.1, handover=True), tmp_path)[0].warm is None
+    assert atlas.start_for(_ref(1.25, handover=False), tmp_path)[0].warm is None
+    _write_warm(tmp_path, [1.2, 1.4], [same, [True] * 5])
+    assert atlas.start_for(_ref(1.25, handover=True), tmp_path)[0].warm is None
+    atlas.warm_path(path).write_bytes(b"not an npz")
+    assert atlas.start_for(_ref(1.25, handover=True), tmp_path)[0].warm is None
+
+
+def test_a_primal_dual_start_is_used_only_where_it_fits_the_solver():
+    solver = SimpleNamespace(stage_bounds=lambda kind: SimpleNamespace(lbz=np.zeros(4)),
+                             stage_rows={"full": np.array([0, 2, 3])})  # fmt: skip
+    warm = {"z": np.ones(4), "rows": np.array([0, 2, 3])}
+    assert starts._usable_warm(solver, warm) is warm
+    assert starts._usable_warm(solver, {**warm, "rows": np.array([0, 1, 3])}) is None
+    assert starts._usable_warm(solver, {**warm, "z": np.ones(5)}) is None
+    assert starts._usable_warm(solver, None) is None

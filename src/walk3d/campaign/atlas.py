@@ -17,14 +17,14 @@ import casadi as ca
 import numpy as np
 
 from walk3d.constants import __version__
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io._atomic import atomic_path, atomic_write_text
 from walk3d.problem import descriptors, similarity, terms
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import SOLVE_REVISION
 from walk3d.solve.atlas import ATLAS_DIR, FORMAT, atlas_path, settings_key
 
 __all__ = ["ATLAS_SPEEDS", "add_handover", "atlas_settings", "build_atlas", "fingerprint",
-           "write_atlas"]  # fmt: skip
+           "write_atlas", "write_warm"]  # fmt: skip
 
 ATLAS_SPEEDS = "0.6:2.0:0.1"
 """Reference-subject speeds, m/s: subjects of 1.5-2.0 m walking 0.65-1.9 m/s map inside
@@ -200,4 +200,42 @@ def add_handover(path: Path, on_progress: Callable[[str, int, int], None] | None
             e["x_handover"] = [float(f"{v:.12g}") for v in out.x]
             e["handover_iterations"] = out.iterations
         atomic_write_text(path, json.dumps(data, indent=1) + "\n")  # resumable
+    write_warm(path)
     return sum("x_handover" in e for e in entries)
+
+
+def write_warm(path: Path) -> Path:
+    """Write the atlas file's primal-dual starts (:func:`walk3d.solve.atlas.warm_path`): for
+    each entry with ``x_handover``, the handover NLP's variables and multipliers at that
+    optimum, solved again from it at the entry's V, T and Td (the point IPOPT ends at, with the
+    stage rows its solver keeps). A start from the atlas blends them (docs/starts.md)."""
+    from walk3d.solve.atlas import read_atlas, warm_path
+    from walk3d.solve.ipopt import build_solver
+    from walk3d.solve.solver import forget_solvers
+    from walk3d.solve.starts import solve_warm
+
+    atlas = read_atlas(path)
+    base = atlas_settings(atlas.sex, atlas.preset).replace(handover=True, free=())
+    rows: dict[str, list] = {k: [] for k in ("speeds", "z", "lam_x", "lam_g", "rows")}
+    for k in range(atlas.speeds.size):
+        if atlas.x_handover is None or not np.isfinite(atlas.x_handover[k]).all():
+            continue
+        given = base.replace(speed=float(atlas.speeds[k]), period=float(atlas.periods[k]),
+                             double_support=float(atlas.double_supports[k]))  # fmt: skip
+        out = solve_warm(given, atlas.x_handover[k], origin="its handover optimum",
+                         max_iter=HANDOVER_MAX_ITER)  # fmt: skip
+        solver = build_solver(given)
+        if out.converged and out.duals is not None:
+            kept = solver.stage_rows["full"]
+            mask = np.zeros(solver.nlp_bounds("full").lbg.size, dtype=bool)
+            mask[kept] = True
+            lam_g = np.zeros(mask.size)
+            lam_g[kept] = out.duals["lam_g"]
+            for key, value in (("speeds", atlas.speeds[k]), ("z", out.z), ("rows", mask),
+                               ("lam_x", out.duals["lam_x"]), ("lam_g", lam_g)):  # fmt: skip
+                rows[key].append(value)
+        forget_solvers()
+    target = warm_path(path)
+    with atomic_path(target, suffix=".npz") as tmp:
+        np.savez_compressed(tmp, **{k: np.asarray(v) for k, v in rows.items()})
+    return target

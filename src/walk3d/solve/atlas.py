@@ -18,7 +18,7 @@ revision, or for other model or grid settings, is never used: no start, and the 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
 
@@ -87,6 +87,9 @@ class AtlasStart:
     weights: tuple[float, ...]
     preset: str
     """The criterion preset of the atlas file."""
+    warm: dict[str, np.ndarray] | None = field(default=None, compare=False, repr=False)
+    """The blended primal-dual point of the entries' handover solves (``z``, ``lam_x``, ``lam_g``
+    and the stage ``rows`` they belong to, :func:`load_warm`), when both entries have one."""
     landing: str = "free"
     """Which optima ``x`` blends: ``free`` (the entries' own, free landing) or ``handover``
     (:attr:`Atlas.x_handover`, used for a handover problem when both entries have one)."""
@@ -239,16 +242,57 @@ def candidates(
     return [_blend(atlas, pairs, ref.model.handover) for pairs in found[:tries]], None
 
 
+def warm_path(atlas_file: Path) -> Path:
+    """The atlas file's primal-dual starts: ``<sex>-<preset>-warm.npz`` beside it."""
+    return atlas_file.with_name(atlas_file.stem + "-warm.npz")
+
+
+@cache
+def _read_warm(path: Path, mtime_ns: int) -> dict[str, np.ndarray] | None:
+    try:
+        with np.load(path) as data:
+            return {k: data[k] for k in ("speeds", "z", "lam_x", "lam_g", "rows")}
+    except (OSError, ValueError, KeyError):  # damaged or of another layout: no warm starts
+        return None
+
+
+def load_warm(atlas: Atlas) -> dict[str, np.ndarray] | None:
+    """The primal-dual points of the entries' handover solves, or None without a readable file
+    (:func:`walk3d.campaign.atlas.add_handover`): by entry (``speeds``), ``z``, ``lam_x``, and
+    ``lam_g`` on all rows with the mask ``rows`` of those its stage solver kept."""
+    path = warm_path(atlas.path)
+    return _read_warm(path, path.stat().st_mtime_ns) if path.is_file() else None
+
+
+def _warm_blend(atlas: Atlas, pairs: list[tuple[int, float]]) -> dict[str, np.ndarray] | None:
+    """The blend of the warm points of ``pairs`` (atlas indices) when both have one for the
+    same stage rows: ``z``, ``lam_x``, ``lam_g`` (on those rows) and the ``rows``."""
+    warm = load_warm(atlas)
+    if warm is None:
+        return None
+    at = [np.flatnonzero(np.isclose(warm["speeds"], atlas.speeds[i])) for i, _ in pairs]
+    if not all(a.size == 1 for a in at):
+        return None
+    mask = warm["rows"][at[0][0]]
+    if any(not np.array_equal(warm["rows"][a[0]], mask) for a in at):
+        return None
+    out = {k: sum(wt * warm[k][a[0]] for a, (_, wt) in zip(at, pairs, strict=True))
+           for k in ("z", "lam_x", "lam_g")}  # fmt: skip
+    return out | {"lam_g": out["lam_g"][mask], "rows": np.flatnonzero(mask)}
+
+
 def _blend(atlas: Atlas, pairs: list[tuple[int, float]], handover: bool = False) -> AtlasStart:
     def blend(values: np.ndarray):
         return sum(wt * values[i] for i, wt in pairs)
 
-    xs, landing = atlas.x, "free"
+    xs, landing, warm = atlas.x, "free", None
     if handover and atlas.x_handover is not None:
         if all(np.isfinite(atlas.x_handover[i]).all() for i, _ in pairs):
             xs, landing = atlas.x_handover, "handover"
+            warm = _warm_blend(atlas, pairs)
     return AtlasStart(
-        x=np.asarray(blend(xs), dtype=float), landing=landing, period=float(blend(atlas.periods)),
+        x=np.asarray(blend(xs), dtype=float), landing=landing, warm=warm,
+        period=float(blend(atlas.periods)),
         double_support=float(blend(atlas.double_supports)),
         speeds=tuple(float(atlas.speeds[i]) for i, _ in pairs),
         weights=tuple(round(wt, 6) for _, wt in pairs), preset=atlas.preset,

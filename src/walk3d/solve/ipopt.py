@@ -65,6 +65,9 @@ class SolveOutcome:
     handover: bool = False
     """Whether ``x`` was solved with the handover (``ModelSettings.handover``,
     :mod:`walk3d.solve.landing`)."""
+    duals: dict[str, np.ndarray] | None = field(default=None, repr=False)
+    """``lam_x`` and ``lam_g`` of the last stage (its solver's rows), from :func:`warm_stage`:
+    with ``z``, a primal-dual start for the same problem (the atlas's, docs/starts.md)."""
 
 
 STANDING_W0 = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0)
@@ -145,12 +148,16 @@ def _run(
     kind: str,
     listener: Listener | None = None,
     stop: StopRule | None = None,
+    duals: dict[str, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, dict]:
-    """Run the stage solver ``fn`` of NLP ``kind`` from ``z0``; returns its end and record."""
+    """Run the stage solver ``fn`` of NLP ``kind`` from ``z0`` (and the multipliers ``duals``,
+    for a solver built with :data:`walk3d.solve.solver.WARM_START`); returns its end and record
+    (with the end's ``lam_x`` and ``lam_g`` under ``"duals"``)."""
     b = solver.stage_bounds(kind)
     t0 = time.perf_counter()
+    start = {"lam_x0": duals["lam_x"], "lam_g0": duals["lam_g"]} if duals else {}
     with solver.reporters[kind].listening(listener, b.lbg, b.ubg, stop):
-        sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg)
+        sol = fn(x0=z0, lbx=b.lbz, ubx=b.ubz, lbg=b.lbg, ubg=b.ubg, **start)
     raise_if_interrupted()
     stats = fn.stats()
     zz = np.array(sol["x"]).ravel()
@@ -163,6 +170,7 @@ def _run(
         "iterations": int(stats["iter_count"]),
         "wall_time_s": time.perf_counter() - t0,
         "objective": float(sol["f"]),
+        "duals": {k: np.array(sol[k]).ravel() for k in ("lam_x", "lam_g")},
     }
     return zz, info
 
@@ -259,16 +267,26 @@ def warm_stage(
     scale: float,
     on_stage: Callable[[str], None] | None = None,
     s0: tuple[float, ...] | None = None,
+    warm: dict[str, np.ndarray] | None = None,
 ) -> SolveOutcome:
     """Run the full-NLP ``stage`` (``problem`` full or free) from the decision vector ``x_ref``
     (reference subject's units) with the descriptors ``s0`` (the solver's first guess when
-    None; ignored when every descriptor is given)."""
+    None; ignored when every descriptor is given); or, with ``warm`` (``z``, ``lam_x``,
+    ``lam_g`` of this NLP's stage solver, e.g. an atlas entry's), from that primal-dual point
+    with IPOPT's warm start (:data:`walk3d.solve.solver.WARM_START`)."""
     note = on_stage or (lambda _msg: None)
     t0 = time.perf_counter()
     note(stage.title)
-    z0 = full_stage_start(solver, _z_from_x(solver, np.asarray(x_ref, dtype=float), s0))
-    z, record = _run(solver.stage(stage), solver, z0, stage.name, stage.problem,
-                     _listener(on_stage, stage))  # fmt: skip
+    if warm is not None:
+        z0, fn = np.asarray(warm["z"], dtype=float), solver.stage(stage, warm=True)
+    else:
+        z0 = full_stage_start(solver, _z_from_x(solver, np.asarray(x_ref, dtype=float), s0))
+        fn = solver.stage(stage)
+    z, record = _run(fn, solver, z0, stage.name, stage.problem, _listener(on_stage, stage),
+                     duals=warm)  # fmt: skip
+    duals = record.pop("duals")
+    if warm is not None:
+        record["warm_start"] = True
     record["attempt"] = 0
     if record["status"] in SUCCESS:
         _reject_crouch(solver, z, record, note)
@@ -279,6 +297,7 @@ def warm_stage(
         stages=[record], max_constraint_violation=record["max_constraint_violation"],
         compiled_derivatives=sorted(solver.compiled),
         descriptors=_descriptors(solver, z, scale), handover=solver.settings.model.handover,
+        duals=duals,
     )  # fmt: skip
 
 
@@ -340,6 +359,7 @@ def solve_stages(
         listener = _listener(on_stage, stage)
         stop = (lambda it, _f, viol: stage.stops(it, viol)) if stage.checks else None
         ends["previous"], record = _run(fn, solver, z0, stage.name, stage.problem, listener, stop)
+        record.pop("duals")
         again = stage.on_failure != END or attempt < ref.solver.restarts
         if stage.problem in ("full", "free") and record["status"] in SUCCESS and again:
             _reject_crouch(solver, ends["previous"], record, note)

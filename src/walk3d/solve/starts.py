@@ -65,6 +65,14 @@ def atlas_noise(seed: int, perturbation: float) -> np.ndarray:
     return noise
 
 
+def _usable_warm(solver, warm: dict | None) -> dict | None:
+    """``warm`` (an atlas start's primal-dual point) if it fits this solver's full NLP: the same
+    variables and stage rows (the double-support nodes of a given grid follow Td / T)."""
+    if warm is None or warm["z"].size != solver.stage_bounds("full").lbz.size:
+        return None
+    return warm if np.array_equal(warm["rows"], solver.stage_rows["full"]) else None
+
+
 def solve_from_atlas(
     settings: PredictionSettings,
     seed: int = 0,
@@ -90,7 +98,8 @@ def solve_from_atlas(
         s0 = tuple(getattr(start, n) if n in g.free else getattr(g, n) for n in descriptors.NAMES)
         if k:
             note(f"the atlas start did not converge: from its entry at {start.speeds[0]:.2f} m/s")
-        this = warm_stage(solver, stage, start.x + noise, scale, on_stage, s0)
+        warm = _usable_warm(solver, start.warm) if not (noise.any() or g.free) else None
+        this = warm_stage(solver, stage, start.x + noise, scale, on_stage, s0, warm)
         this.stages[-1].update(start="atlas", **start.describe())
         outcome = this if outcome is None else merged(outcome, this, method)
         if this.converged:
