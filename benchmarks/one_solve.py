@@ -1,4 +1,6 @@
-"""Issue #42's timing targets: ``python benchmarks/one_solve.py [--modes atlas solve given]``.
+"""Issue #42's targets: ``python benchmarks/one_solve.py [--parts timing realism] [--modes ...]``.
+
+**timing**:
 
 ``walk3d predict`` end to end (a fresh process, ``/usr/bin/time``-like wall time from process
 start to exit) on five descriptor sets of both sexes at 0.9-1.7 m/s, each with T and Td
@@ -7,6 +9,12 @@ solved first, then the handover) and with T and Td given (one solve either way).
 cache is warm (a first run fills it and is not counted), nothing is compiled, runs go one at a
 time, with ``OPENBLAS_NUM_THREADS=1``. Records per run: wall time, exit code, convergence,
 iterations, the predicted T and Td and ``looks_like_walking``; and the medians per mode.
+
+**realism**: the shared sources of ``benchmarks/criteria_sweep.py`` (Falisse, Winter,
+subject01; skipped when ``../shared/data`` is absent), each predicted with T and Td from the
+atlas (one solve, the default) and from the free-landing solve (two solves), seed 0, and
+``walk3d validate``'s rows side by side (the same figures as criteria_sweep.py), plus the
+shared yardstick ``../shared/tools/realism.py`` on Falisse when present.
 """
 
 from __future__ import annotations
@@ -57,6 +65,41 @@ def run(out: Path, args: list[str], cache: Path) -> dict:
     return row
 
 
+def realism(root: Path) -> list[dict]:
+    """The realism rows of each shared source under both ways of predicting T and Td."""
+    import criteria_sweep as cs
+
+    rows = []
+    if not cs.DATA.is_dir():
+        print(f"realism: skipped, no shared data at {cs.DATA}")
+        return rows
+    tool = cs.DATA.parent / "tools" / "realism.py"
+    for source, (args, refs, vargs) in dict(cs.SOURCES).items():
+        predicted = [a for a in args if a not in ("--period", "--double-support")]
+        if "--period" in args:  # drop the given values too
+            drop = {args.index("--period") + 1, args.index("--double-support") + 1}
+            predicted = [a for i, a in enumerate(args) if i not in drop
+                         and a not in ("--period", "--double-support")]  # fmt: skip
+        for mode in ("atlas", "solve"):
+            extra = ["--period", "auto", "--double-support", "auto", "--descriptors-from", mode]
+            cs.SOURCES[source] = (predicted + extra, refs, vargs)
+            row = cs.run_one("natural", source, 0, root / mode)
+            summary = json.loads((root / mode / "natural" / source / "summary.json").read_text())
+            d = summary["descriptors"]
+            row.update(mode=mode, period_s=d["period"], double_support_s=d["double_support"],
+                       predicted_by=d.get("predicted_by"))  # fmt: skip
+            if source == "falisse" and tool.is_file():
+                out = subprocess.run([sys.executable, str(tool), str(root / mode / "natural" /
+                                      source), refs[0], "--json"], capture_output=True,
+                                     text=True)  # fmt: skip
+                row["yardstick"] = json.loads(out.stdout) if out.returncode == 0 else None
+            rows.append(row)
+            print(json.dumps({k: v for k, v in row.items() if k not in ("yardstick", "objective")}),
+                  flush=True)  # fmt: skip
+        cs.SOURCES[source] = (args, refs, vargs)
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument(
@@ -66,13 +109,18 @@ def main(argv: list[str] | None = None) -> int:
         help="atlas / solve: T and Td predicted that way; given: T and Td given",
     )
     ap.add_argument("--cache", help="model cache folder to use (default: a new one, filled first)")
+    ap.add_argument("--parts", nargs="+", default=["timing", "realism"])
     environment.add_output_arguments(ap, NAME)
     args = ap.parse_args(argv)
-    rows = []
+    rows, real = [], []
     with tempfile.TemporaryDirectory(prefix="walk3d-one-solve-") as tmp:
         root = Path(tmp)
+        if "realism" in args.parts:
+            real = realism(root / "realism")
         cache = Path(args.cache) if args.cache else root / "cache"
-        for sex in ("female", "male"):  # fill the cache: not counted
+        if "timing" not in args.parts:
+            args.modes = []
+        for sex in ("female", "male") if args.modes else ():  # fill the cache: not counted
             run(root / f"fill-{sex}", ["--sex", sex], cache)
         for name, (v, m, h, sex, t, td) in SETS.items():
             common = ["--speed", str(v), "--mass", str(m), "--height", str(h), "--sex", sex]
@@ -87,7 +135,7 @@ def main(argv: list[str] | None = None) -> int:
                for m in args.modes}  # fmt: skip
     print(f"median end-to-end wall time, s: {medians}")
     result = {environment.KEY: environment.environment(), "sets": SETS, "runs": rows,
-              "median_wall_s": medians}  # fmt: skip
+              "median_wall_s": medians, "realism": real}  # fmt: skip
     path = environment.output_path(args, NAME)
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(result, indent=2) + "\n")

@@ -154,6 +154,12 @@ def test_predict_from_trial_bad_input(tmp_path, falisse):
     _one_line_error(r, "nodes")
     assert "V = 1.2705 m/s" in r.stdout and "T = 1.07" in r.stdout
     assert not (tmp_path / "o").exists()
+    # the trial's V with T and Td predicted (auto given): printed as such, no traceback
+    r = _run("predict", "--out", tmp_path / "o", "--from-trial", falisse / "gait_1_ik.mot",
+             "--grf", falisse / "gait_1_grf.mot", "--period", "auto", "--double-support", "auto",
+             "--nodes", "1")  # fmt: skip
+    _one_line_error(r, "nodes")
+    assert "V = 1.2705 m/s" in r.stdout and "T = auto (predicted)" in r.stdout
 
 
 def test_validate_writes_tables_and_figures(pred_dir, tmp_path, falisse):

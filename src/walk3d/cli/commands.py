@@ -129,9 +129,14 @@ def _descriptors_from_trial(ctx, from_trial, grf, **given) -> tuple:
         fail(" ".join(str(exc).split()))
     values = {"speed": d.speed, "period": d.period, "double_support": d.double_support}
     values.update({k: given[k] for k in explicit})
+
+    def shown(name: str, unit: str) -> str:  # a given "auto" (predicted) or a number
+        v = values[name]
+        return f"{v:.4f} {unit}" if isinstance(v, float) else f"{v} (predicted)"
+
     console.print(
-        f"descriptors from {from_trial}: V = {values['speed']:.4f} m/s, "
-        f"T = {values['period']:.4f} s, Td = {values['double_support']:.4f} s "
+        f"descriptors from {from_trial}: V = {shown('speed', 'm/s')}, "
+        f"T = {shown('period', 's')}, Td = {shown('double_support', 's')} "
         f"(period: {d.period_method})",
         markup=False,
         soft_wrap=True,
