@@ -182,7 +182,7 @@ def test_a_given_descriptor_keeps_its_value_in_an_atlas_start(monkeypatch, free)
     the given one starts (and stays, by its equal bounds) at the user's value."""
     seen = []
 
-    def fake_warm_stage(solver, stage, x, scale, on_stage, s0):
+    def fake_warm_stage(solver, stage, x, scale, on_stage, s0, warm=None):
         seen.append(s0)
         return SimpleNamespace(converged=True, stages=[{}], handover=False)
 
