@@ -137,8 +137,7 @@ def main(argv: list[str] | None = None) -> int:
     result = {environment.KEY: environment.environment(), "sets": SETS, "runs": rows,
               "median_wall_s": medians, "realism": real}  # fmt: skip
     path = environment.output_path(args, NAME)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(result, indent=2) + "\n")
+    environment.write(path, result)
     print(f"wrote {path}")
     return 0
 
