@@ -30,6 +30,7 @@ def test_atlas_show_lists_the_shipped_files():
                        text=True, timeout=60, env=os.environ | {"COLUMNS": "200"})  # fmt: skip
     assert r.returncode == 0, r.stderr
     assert "male" in r.stdout and "natural" in r.stdout and "yes" in r.stdout
+    assert "13 (13)" in r.stdout and "14 (14)" in r.stdout  # handover entries (warm starts)
 
 
 @pytest.mark.parametrize(
