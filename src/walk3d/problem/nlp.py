@@ -264,7 +264,8 @@ def _node_name(dynamics: bool, balance: bool, with_hs: bool) -> str:
     return f"node_d{int(dynamics)}b{int(balance)}h{int(with_hs)}"
 
 
-MODEL_FUNCTIONS = ("loop", *(_node_name(*s, h) for s in STAGES.values() for h in (True, False)))
+_NODE_FLAGS = {_node_name(d, b, h): (d, b, h) for d, b in STAGES.values() for h in (True, False)}
+MODEL_FUNCTIONS = ("loop", *_NODE_FLAGS)
 
 
 def model_functions(
@@ -274,9 +275,9 @@ def model_functions(
     node functions per stage (with and without the heel-strike rows) and the loop function.
     Built in Python, they are the part of a build CasADi reads back quickly, so
     :mod:`walk3d.solve.model_cache` keeps them."""
-    flag = {n: [n[k : k + 1] == "1" for k in (6, 8, 10)] for n in names}  # dynamics, balance, hs
-    return {n: loop_function(body, model) if n == "loop" else node_function(
-        body, model, d, with_hs=h, balance=b) for n, (d, b, h) in flag.items()}  # fmt: skip
+    flags = {n: None if n == "loop" else _NODE_FLAGS[n] for n in names}  # (dynamics, balance, hs)
+    return {n: loop_function(body, model) if f is None else node_function(
+        body, model, f[0], with_hs=f[2], balance=f[1]) for n, f in flags.items()}  # fmt: skip
 
 
 @dataclass(frozen=True)
