@@ -149,10 +149,10 @@ def _run(
     listener: Listener | None = None,
     stop: StopRule | None = None,
     duals: dict[str, np.ndarray] | None = None,
-) -> tuple[np.ndarray, dict]:
+) -> tuple[np.ndarray, dict, dict[str, np.ndarray]]:
     """Run the stage solver ``fn`` of NLP ``kind`` from ``z0`` (and the multipliers ``duals``,
-    for a solver built with :data:`walk3d.solve.solver.WARM_START`); returns its end and record
-    (with the end's ``lam_x`` and ``lam_g`` under ``"duals"``)."""
+    for a solver built with :data:`walk3d.solve.solver.WARM_START`); returns its end, record
+    and the end's multipliers (``lam_x``, ``lam_g``)."""
     b = solver.stage_bounds(kind)
     t0 = time.perf_counter()
     start = {"lam_x0": duals["lam_x"], "lam_g0": duals["lam_g"]} if duals else {}
@@ -170,9 +170,8 @@ def _run(
         "iterations": int(stats["iter_count"]),
         "wall_time_s": time.perf_counter() - t0,
         "objective": float(sol["f"]),
-        "duals": {k: np.array(sol[k]).ravel() for k in ("lam_x", "lam_g")},
     }
-    return zz, info
+    return zz, info, {k: np.array(sol[k]).ravel() for k in ("lam_x", "lam_g")}
 
 
 def _listener(on_stage: Callable[[str], None] | None, stage: Stage) -> Listener | None:
@@ -282,9 +281,8 @@ def warm_stage(
     else:
         z0 = full_stage_start(solver, _z_from_x(solver, np.asarray(x_ref, dtype=float), s0))
         fn = solver.stage(stage)
-    z, record = _run(fn, solver, z0, stage.name, stage.problem, _listener(on_stage, stage),
-                     duals=warm)  # fmt: skip
-    duals = record.pop("duals")
+    z, record, duals = _run(fn, solver, z0, stage.name, stage.problem,
+                            _listener(on_stage, stage), duals=warm)  # fmt: skip
     if warm is not None:
         record["warm_start"] = True
     record["attempt"] = 0
@@ -358,8 +356,8 @@ def solve_stages(
             solver.prepare(stage.on_success)  # built while this stage solves
         listener = _listener(on_stage, stage)
         stop = (lambda it, _f, viol: stage.stops(it, viol)) if stage.checks else None
-        ends["previous"], record = _run(fn, solver, z0, stage.name, stage.problem, listener, stop)
-        record.pop("duals")
+        ends["previous"], record, _ = _run(fn, solver, z0, stage.name, stage.problem, listener,
+                                           stop)  # fmt: skip
         again = stage.on_failure != END or attempt < ref.solver.restarts
         if stage.problem in ("full", "free") and record["status"] in SUCCESS and again:
             _reject_crouch(solver, ends["previous"], record, note)
