@@ -333,3 +333,36 @@ def test_a_primal_dual_start_is_used_only_where_it_fits_the_solver():
     assert starts._usable_warm(solver, {**warm, "rows": np.array([0, 1, 3])}) is None
     assert starts._usable_warm(solver, {**warm, "z": np.ones(5)}) is None
     assert starts._usable_warm(solver, None) is None
+
+
+def test_write_warm_solves_only_the_entries_it_has_no_point_for(tmp_path, monkeypatch):
+    """``add_handover`` hands over the points of the solves it ran; ``write_warm`` solves again
+    only the other entries with a handover optimum (negative control: without points, all)."""
+    import walk3d.campaign.atlas as campaign_atlas
+
+    _write(tmp_path, [1.0, 1.2, 1.4])
+    path = atlas.atlas_path("male", "natural", tmp_path)
+    data = json.loads(path.read_text())
+    for e in data["entries"][1:]:
+        e["x_handover"] = [0.0] * layout.N_X
+    path.write_text(json.dumps(data))
+    solved = []
+
+    def fake_solve(given, x, origin, max_iter):
+        solved.append(given.gait.speed)
+        return SimpleNamespace(speed=given.gait.speed)
+
+    def point(speed):
+        return {"z": np.full(2, speed), "lam_x": np.zeros(2), "lam_g": np.zeros(3),
+                "rows": np.ones(3, dtype=bool)}  # fmt: skip
+
+    monkeypatch.setattr(starts, "solve_warm", fake_solve)
+    monkeypatch.setattr(campaign_atlas, "_warm_point", lambda given, out: point(out.speed))
+    campaign_atlas.write_warm(path, {1.4: point(1.4)})
+    assert solved == [1.2]  # 1.0 has no handover optimum, 1.4's point was given
+    with np.load(atlas.warm_path(path)) as warm:
+        np.testing.assert_array_equal(warm["speeds"], [1.2, 1.4])
+        np.testing.assert_array_equal(warm["z"][:, 0], [1.2, 1.4])
+    solved.clear()
+    campaign_atlas.write_warm(path)
+    assert solved == [1.2, 1.4]

@@ -185,7 +185,7 @@ def add_handover(path: Path, on_progress: Callable[[str, int, int], None] | None
     data = json.loads(path.read_text())
     atlas = read_atlas(path)
     base = atlas_settings(atlas.sex, atlas.preset).replace(handover=True, free=())
-    entries = data["entries"]
+    entries, points = data["entries"], {}
     for k, e in enumerate(entries):
         if on_progress:
             on_progress(f"handover at {e['speed']:.2f} m/s", k, len(entries))
@@ -195,46 +195,60 @@ def add_handover(path: Path, on_progress: Callable[[str, int, int], None] | None
                              double_support=e["double_support"])  # fmt: skip
         out = solve_warm(given, np.asarray(e["x"], dtype=float), origin="the free landing",
                          max_iter=HANDOVER_MAX_ITER)  # fmt: skip
-        forget_solvers()
         if out.converged:
             e["x_handover"] = [float(f"{v:.12g}") for v in out.x]
             e["handover_iterations"] = out.iterations
+            points[e["speed"]] = _warm_point(given, out)
+        forget_solvers()
         atomic_write_text(path, json.dumps(data, indent=1) + "\n")  # resumable
-    write_warm(path)
+    write_warm(path, points)
     return sum("x_handover" in e for e in entries)
 
 
-def write_warm(path: Path) -> Path:
+def _warm_point(given: PredictionSettings, out) -> dict[str, np.ndarray] | None:
+    """The primal-dual point where the handover solve ``out`` of ``given`` ended: ``z``,
+    ``lam_x``, ``lam_g`` on every row (zero on the rows its stage solver drops) and that ``rows``
+    mask; None without multipliers."""
+    from walk3d.solve.ipopt import build_solver
+
+    if not out.converged or out.duals is None:
+        return None
+    solver = build_solver(given)
+    kept = solver.stage_rows["full"]
+    mask = np.zeros(solver.nlp_bounds("full").lbg.size, dtype=bool)
+    mask[kept] = True
+    lam_g = np.zeros(mask.size)
+    lam_g[kept] = out.duals["lam_g"]
+    return {"z": out.z, "lam_x": out.duals["lam_x"], "lam_g": lam_g, "rows": mask}
+
+
+def write_warm(path: Path, points: dict[float, dict | None] | None = None) -> Path:
     """Write the atlas file's primal-dual starts (:func:`walk3d.solve.atlas.warm_path`): for
     each entry with ``x_handover``, the handover NLP's variables and multipliers at that
-    optimum, solved again from it at the entry's V, T and Td (the point IPOPT ends at, with the
-    stage rows its solver keeps). A start from the atlas blends them (docs/starts.md)."""
+    optimum (:func:`_warm_point`), from ``points`` (by speed, from the solves that found them)
+    or solved again from it at the entry's V, T and Td. A start from the atlas blends them
+    (docs/starts.md)."""
     from walk3d.solve.atlas import read_atlas, warm_path
-    from walk3d.solve.ipopt import build_solver
     from walk3d.solve.solver import forget_solvers
     from walk3d.solve.starts import solve_warm
 
-    atlas = read_atlas(path)
+    atlas, points = read_atlas(path), dict(points or {})
     base = atlas_settings(atlas.sex, atlas.preset).replace(handover=True, free=())
     rows: dict[str, list] = {k: [] for k in ("speeds", "z", "lam_x", "lam_g", "rows")}
-    for k in range(atlas.speeds.size):
+    for k, v in enumerate(atlas.speeds):
         if atlas.x_handover is None or not np.isfinite(atlas.x_handover[k]).all():
             continue
-        given = base.replace(speed=float(atlas.speeds[k]), period=float(atlas.periods[k]),
-                             double_support=float(atlas.double_supports[k]))  # fmt: skip
-        out = solve_warm(given, atlas.x_handover[k], origin="its handover optimum",
-                         max_iter=HANDOVER_MAX_ITER)  # fmt: skip
-        solver = build_solver(given)
-        if out.converged and out.duals is not None:
-            kept = solver.stage_rows["full"]
-            mask = np.zeros(solver.nlp_bounds("full").lbg.size, dtype=bool)
-            mask[kept] = True
-            lam_g = np.zeros(mask.size)
-            lam_g[kept] = out.duals["lam_g"]
-            for key, value in (("speeds", atlas.speeds[k]), ("z", out.z), ("rows", mask),
-                               ("lam_x", out.duals["lam_x"]), ("lam_g", lam_g)):  # fmt: skip
+        if float(v) not in points:
+            given = base.replace(speed=float(v), period=float(atlas.periods[k]),
+                                 double_support=float(atlas.double_supports[k]))  # fmt: skip
+            out = solve_warm(given, atlas.x_handover[k], origin="its handover optimum",
+                             max_iter=HANDOVER_MAX_ITER)  # fmt: skip
+            points[float(v)] = _warm_point(given, out)
+            forget_solvers()
+        if points[float(v)] is not None:
+            rows["speeds"].append(v)
+            for key, value in points[float(v)].items():
                 rows[key].append(value)
-        forget_solvers()
     target = warm_path(path)
     with atomic_path(target, suffix=".npz") as tmp:
         np.savez_compressed(tmp, **{k: np.asarray(v) for k, v in rows.items()})
