@@ -26,31 +26,29 @@ def sole_heights(folder: Path, side: str = "r", min_load: float = 0.05) -> list[
     """Rows ``(sample, Fy/BW, pitch deg, heel y, toe y, COP place 0–1, sole height m)``."""
     import walk3d
     from walk3d.body.model import build_body
-    from walk3d.kinematics import quaternion as qt
+    from walk3d.kinematics.quaternion import to_matrix
+    from walk3d.results.markers import Marker, marker_positions
 
     res = walk3d.load_result(folder)
     gait = json.loads((folder / "summary.json").read_text())["settings"]["gait"]
     body = build_body(gait["mass"], gait["height"], gait["sex"])
-    i = list(res.segment_names).index(f"foot_{side}")
-    com = tuple(np.asarray(body.segments[i].com, float))
-    pts = body.foot.points(side)
-    foot = 0 if side == "r" else 1
+    segment, foot = f"foot_{side}", 0 if side == "r" else 1
+    heel_local, toe_local = body.foot.points(side)[:2]
+    heel, toe = marker_positions(
+        res, body, [Marker("heel", segment, heel_local), Marker("toe", segment, toe_local)]
+    ).transpose(1, 0, 2)
+    up = to_matrix(res.segment_orientation[:, body.segment_index(segment)])[:, :, 1]
+    cop, fy = res.grf_cop[:, foot], res.grf_force[:, foot, 1]
+    # the sole plane through the heel, normal ``up``, at the centre of pressure's x and z
+    height = (
+        heel[:, 1]
+        - (up[:, 0] * (cop[:, 0] - heel[:, 0]) + up[:, 2] * (cop[:, 2] - heel[:, 2])) / up[:, 1]
+    )
+    pitch = np.degrees(np.arctan2(toe[:, 1] - heel[:, 1], toe[:, 0] - heel[:, 0]))
+    place = (cop[:, 0] - heel[:, 0]) / (toe[:, 0] - heel[:, 0])
     weight = float(np.sum(res.segment_mass)) * 9.81
-    rows = []
-    for k in range(len(res.time)):
-        fy = float(res.grf_force[k, foot, 1])
-        if fy < min_load * weight:
-            continue
-        q = tuple(res.segment_orientation[k, i])
-        origin = res.segment_com_position[k, i] - np.array(qt.qrot(q, com))
-        heel, toe = (origin + np.array(qt.qrot(q, tuple(p))) for p in pts[:2])
-        n = np.array(qt.qrot(q, (0.0, 1.0, 0.0)))
-        cop = res.grf_cop[k, foot]
-        height = heel[1] - (n[0] * (cop[0] - heel[0]) + n[2] * (cop[2] - heel[2])) / n[1]
-        pitch = np.degrees(np.arctan2(toe[1] - heel[1], toe[0] - heel[0]))
-        place = (cop[0] - heel[0]) / (toe[0] - heel[0])
-        rows.append((k, fy / weight, pitch, heel[1], toe[1], place, height))
-    return rows
+    return [(k, fy[k] / weight, pitch[k], heel[k, 1], toe[k, 1], place[k], height[k])
+            for k in np.flatnonzero(fy >= min_load * weight)]  # fmt: skip
 
 
 def main(argv: list[str] | None = None) -> int:
