@@ -62,9 +62,12 @@ def _folder(criterion: str) -> str:
     return criterion.replace("=", "").replace(",", "_").replace(".", "p")
 
 
-def run_one(criterion: str, source: str, seed: int, root: Path) -> dict:
-    """Predict (unless present) and validate one criterion on one source; its figures."""
-    args, refs, vargs = SOURCES[source]
+def run_one(criterion: str, source: str, seed: int, root: Path,
+            args: list[str] | None = None) -> dict:  # fmt: skip
+    """Predict (unless present) and validate one criterion on one source; its figures.
+    ``args``: the prediction's descriptor and subject options instead of the source's."""
+    given, refs, vargs = SOURCES[source]
+    args = given if args is None else args
     out = root / _folder(criterion) / source
     if not (out / "summary.json").exists():
         cmd = ["walk3d", "predict", *args, "--criterion", criterion, "--seed", str(seed),

@@ -74,16 +74,14 @@ def realism(root: Path) -> list[dict]:
         print(f"realism: skipped, no shared data at {cs.DATA}")
         return rows
     tool = cs.DATA.parent / "tools" / "realism.py"
-    for source, (args, refs, vargs) in dict(cs.SOURCES).items():
-        predicted = [a for a in args if a not in ("--period", "--double-support")]
-        if "--period" in args:  # drop the given values too
-            drop = {args.index("--period") + 1, args.index("--double-support") + 1}
-            predicted = [a for i, a in enumerate(args) if i not in drop
-                         and a not in ("--period", "--double-support")]  # fmt: skip
+    for source, (args, refs, _) in cs.SOURCES.items():
+        # the positions of the given T and Td, flags and values
+        given = {i + d for i, a in enumerate(args) if a in ("--period", "--double-support")
+                 for d in (0, 1)}  # fmt: skip
+        predicted = [a for i, a in enumerate(args) if i not in given]
         for mode in ("atlas", "solve"):
             extra = ["--period", "auto", "--double-support", "auto", "--descriptors-from", mode]
-            cs.SOURCES[source] = (predicted + extra, refs, vargs)
-            row = cs.run_one("natural", source, 0, root / mode)
+            row = cs.run_one("natural", source, 0, root / mode, args=predicted + extra)
             summary = json.loads((root / mode / "natural" / source / "summary.json").read_text())
             d = summary["descriptors"]
             row.update(mode=mode, period_s=d["period"], double_support_s=d["double_support"],
@@ -96,7 +94,6 @@ def realism(root: Path) -> list[dict]:
             rows.append(row)
             print(json.dumps({k: v for k, v in row.items() if k not in ("yardstick", "objective")}),
                   flush=True)  # fmt: skip
-        cs.SOURCES[source] = (args, refs, vargs)
     return rows
 
 
