@@ -75,7 +75,9 @@ def _predicted_by(settings: PredictionSettings, stages: list[dict]) -> dict:
 
 
 def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str) -> dict:
-    """The JSON summary of a prediction (SI units, criteria exact, smoothed for reference)."""
+    """The JSON summary of a prediction (SI units, criteria exact, smoothed for reference).
+    ``body_mass_kg`` includes any what-if added mass; forces per body weight use it."""
+    mass = float(body_for(settings).mass)
     return {
         "walk3d_version": __version__,
         "solve_revision": SOLVE_REVISION,
@@ -100,6 +102,7 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "max_constraint_violation": outcome.max_constraint_violation,
         "double_support_contact_residual_m": ev.contact_residual_m,
         "root_switch_continuity_residual_m": ev.continuity_residual_m,
+        "body_mass_kg": mass,
         "stride_length_m": ev.stride_length_m,
         "stride_length_target_m": settings.gait.stride_length,
         "step_width_m": ev.step_width_m,
@@ -113,9 +116,9 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
             ev.prediction_arrays,
             settings.gait.period,
             settings.gait.double_support,
-            settings.gait.mass,
+            mass,
         )
-        | realism_figures(ev.prediction_arrays, settings.gait.mass, ev.step_width_m),
+        | realism_figures(ev.prediction_arrays, mass, ev.step_width_m),
     }
 
 

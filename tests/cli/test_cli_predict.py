@@ -38,6 +38,20 @@ BAD = [
     (["--restarts", "11"], "restarts"),
     (["--max-iter", "0"], "max_iter"),
     (["--start", "nearby"], "start"),
+    # what-if changes (issue #43)
+    (["--strength", "ankle_x=0.5"], "unknown joint 'ankle_x'"),
+    (["--strength", "ankle=0"], "strength factor of 'ankle' must be > 0"),
+    (["--strength", "ankle=-1"], "must be > 0"),
+    (["--strength", "ankle_r=0.5"], "one-sided"),
+    (["--strength", "ankle"], "--strength takes NAME=VALUE"),
+    (["--strength", "ankle=abc"], "not a finite number"),
+    (["--range", "ankle_dorsiflexion=5"], "--range takes DOF=MIN:MAX"),
+    (["--range", "ankle_dorsiflexion=5:-5"], "is empty"),
+    (["--range", "ankle_dorsiflexion=5:10"], "excludes standing"),
+    (["--range", "knee_bend=-5:5"], "unknown DoF 'knee_bend'"),
+    (["--added-mass", "torso=-3"], "added mass at 'torso'"),
+    (["--added-mass", "backpack=3"], "unknown segment 'backpack'"),
+    (["--added-mass", "torso=3,torso=4"], "names the same part twice"),
     # an HSL solver whose library cannot be loaded is refused before the solve starts
     (["--linear-solver", "ma57", "--hsl-library", "/nonexistent/libhsl.so"], "HSL solver ma57"),
 ]

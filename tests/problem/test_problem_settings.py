@@ -36,8 +36,9 @@ ADDED_SINCE = [
     "heel_rise",
     "load_ramp",
     "descriptors_from",
+    "changes",
 ]
-"""Fields added later (issues #23, #24, #25, #26, #41, #42), with defaults, so older files still
+"""Fields added later (issues #23, #24, #25, #26, #41, #42, #43), with defaults, so older files still
 load."""
 
 

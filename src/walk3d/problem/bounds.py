@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from walk3d.body.model import BodyModel
-from walk3d.problem import descriptors, layout
+from walk3d.problem import descriptors, layout, whatif
 from walk3d.problem.nlp import BALL_NORM_MAX, G_ROWS, N_G, N_T, N_Y, per_foot_loads
 from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.schedule import Schedule, loop_check_times, range_rows
@@ -49,7 +49,7 @@ def _coord_bounds(
     # (a 5th-order series cannot vanish over a whole interval: "flat" means within a tolerance)
     flat = np.sin(settings.model.foot_flat_tolerance / 2)
     lo[sw, 0, r], hi[sw, 0, r] = -flat, flat
-    rise = settings.model.heel_rise
+    rise = whatif.heel_rise(settings.model)
     if rise is not None:  # the forefoot rocker: toes down from heel rise to toe off
         g = settings.gait
         late = sw & (sch.times - sch.times[0] >= rise * (g.period / 2 + g.double_support))

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from walk3d.body.changes import limited_dofs
 from walk3d.body.model import BodyModel
 from walk3d.problem.settings import PredictionSettings
 
@@ -34,7 +35,8 @@ Set ``settings.model.leg_walking_ranges = False`` for the anatomical range.
 
 def joint_ranges(body: BodyModel, settings: PredictionSettings) -> np.ndarray:
     """(24, 2) joint-coordinate ranges in rad, DoF order: anatomical, narrowed to walking for
-    the arms (``arm_walking_ranges``) and the knees (``leg_walking_ranges``)."""
+    the arms (``arm_walking_ranges``) and the knees (``leg_walking_ranges``), and to the
+    what-if joint limits (``changes.limits``, an orthosis)."""
     walking = {**(ARM_WALKING_RANGE_DEG if settings.model.arm_walking_ranges else {}),
                **(LEG_WALKING_RANGE_DEG if settings.model.leg_walking_ranges else {})}  # fmt: skip
     out = []
@@ -45,4 +47,7 @@ def joint_ranges(body: BodyModel, settings: PredictionSettings) -> np.ndarray:
             env = np.radians(np.array(walking[kind]))
             r = np.column_stack([np.maximum(r[:, 0], env[:, 0]), np.minimum(r[:, 1], env[:, 1])])
         out.append(r)
-    return np.concatenate(out)
+    ranges = np.concatenate(out)
+    for i, (lo, hi) in limited_dofs(body, settings.model.changes.limits).items():
+        ranges[i] = max(ranges[i, 0], lo), min(ranges[i, 1], hi)
+    return ranges

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from walk3d.body.changes import limited_dofs
 from walk3d.body.model import BodyModel
 from walk3d.contact.phases import GaitPhases
 from walk3d.problem import descriptors, layout
@@ -16,6 +17,10 @@ from walk3d.problem.settings import PredictionSettings
 
 __all__ = ["Schedule", "lifting_maps", "loop_check_times", "nlp_layout", "node_params",
            "range_rows", "schedule"]  # fmt: skip
+
+LIMIT_OVERSAMPLING = 4
+"""Joint-limit rows per node interval for the limited DoFs of a what-if orthosis when the
+joint ranges are not oversampled: the limit then holds on the reported 101-sample cycle."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -101,14 +106,19 @@ def range_rows(body: BodyModel, settings: PredictionSettings) -> tuple[np.ndarra
     differentiate, and they keep the series inside the anatomical ranges *between* nodes too
     (with 12 nodes and ranges at the nodes only, the optimizer found gaits swinging far outside
     them in between). Off by default: with 4× oversampling the kinematic stage reported local
-    infeasibility from the standing start (docs/solver.md).
+    infeasibility from the standing start (docs/solver.md). What-if joint limits get rows for
+    their DoFs alone on a :data:`LIMIT_OVERSAMPLING` × finer grid when the ranges have none.
     """
     ph = GaitPhases(settings.gait.period, settings.gait.double_support)
     m = settings.solver.range_oversampling * settings.solver.nodes
+    dofs = np.arange(24)
+    if m == 0 and settings.model.changes.limits:  # an orthosis holds between the nodes too
+        m = LIMIT_OVERSAMPLING * settings.solver.nodes
+        dofs = np.array(sorted(limited_dofs(body, settings.model.changes.limits)))
     t = ph.heel_strike_r + np.arange(m) * settings.gait.period / (2 * m)
     a0, _, _ = layout.coordinate_maps(t, settings.gait.period)
-    ranges = joint_ranges(body, settings)
-    R = a0[:, :24, :].reshape(-1, layout.N_X)
+    ranges = joint_ranges(body, settings)[dofs]
+    R = a0[:, dofs, :].reshape(-1, layout.N_X)
     lo = np.tile(np.sin(ranges[:, 0] / 2), m)
     hi = np.tile(np.sin(ranges[:, 1] / 2), m)
     return R, lo, hi

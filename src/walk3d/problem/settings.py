@@ -22,6 +22,7 @@ from pydantic import BaseModel, ConfigDict, ValidationError, field_validator, mo
 
 from walk3d.problem import descriptors, terms
 from walk3d.problem.setup import available_cores, body_for, ratios_for
+from walk3d.problem.whatif import Changes
 
 __all__ = ["GaitSettings", "ModelSettings", "PredictionSettings", "SolverSettings",
            "available_cores", "body_for", "first_error", "flat_settings", "ratios_for",
@@ -147,6 +148,8 @@ class ModelSettings(_Group):
     """Initial slope ``s`` of the trailing foot's share ``(1 − x)²(1 + (2 − s)x)``, ``x`` = time
     since heel strike / Td (:mod:`walk3d.contact.phases`), in [0, 3]: the leading foot loads with
     a slope, as measured. None: the paper's ``exp(−(2x)³)``, which starts flat."""
+    changes: Changes = Changes()
+    """What-if changes to the body and joints (:mod:`walk3d.problem.whatif`); none: normal."""
 
     @field_validator("criterion")
     @classmethod
@@ -294,6 +297,7 @@ OPT_IN: dict[str, Any] = {
     "passive_total": False,
     "heel_rise": None,
     "load_ramp": None,
+    "changes": Changes(),
 }
 """Model settings whose value here leaves them out of the model-cache and atlas keys: the
 problem of a walk3d before they existed."""

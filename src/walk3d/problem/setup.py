@@ -18,17 +18,19 @@ def available_cores() -> int:
 
 
 def body_for(settings: Any) -> Any:
-    """The :class:`~walk3d.body.model.BodyModel` of these :class:`PredictionSettings` (with the
-    calibrated roll-over, if any)."""
+    """The :class:`~walk3d.body.model.BodyModel` of these :class:`PredictionSettings`: with the
+    calibrated roll-over, if any, and the what-if strengths and added masses."""
     from dataclasses import replace
 
     import numpy as np
 
+    from walk3d.body.changes import apply_changes
     from walk3d.body.model import build_body
     from walk3d.kinematics.rollover import RollOver
 
     g, m = settings.gait, settings.model
     body = build_body(g.mass, g.height, g.sex)
+    body = apply_changes(body, m.changes.strength, m.changes.added_mass)
     if m.rollover_s is None:
         return body
     ro = RollOver.from_samples(np.array(m.rollover_s), np.array(m.rollover_ankle))

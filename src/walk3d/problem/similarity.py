@@ -53,7 +53,8 @@ def reference_problem(settings: PredictionSettings) -> tuple[PredictionSettings,
     """The reference subject's settings whose solution is this subject's, and ``s``.
 
     Mass and stature become the reference's, the descriptors ``V, T, Td`` are divided by
-    ``√s`` and a calibrated roll-over's ankle path by ``s``; everything else is kept. The
+    ``√s``, a calibrated roll-over's ankle path by ``s`` and added masses by the mass ratio;
+    everything else is kept. The
     reference subject's own settings come back unchanged (the same object), so its solves are
     exactly those of the settings given.
     """
@@ -69,6 +70,10 @@ def reference_problem(settings: PredictionSettings) -> tuple[PredictionSettings,
                  "period": g.period / root, "double_support": g.double_support / root}  # fmt: skip
         if m.rollover_ankle is not None:  # the spline is linear in its samples
             model["rollover_ankle"] = tuple(tuple(c / s for c in p) for p in m.rollover_ankle)
+    if m.changes.added_mass:  # a fixed fraction of the body mass, as every segment's
+        k = REFERENCE_MASS_KG / g.mass
+        added = tuple((name, kg * k) for name, kg in m.changes.added_mass)
+        model["changes"] = m.changes.model_copy(update={"added_mass": added})
     # not revalidated: the scaled descriptors may leave the user-facing ranges
     groups = {"gait": g.model_copy(update=gait), "model": m.model_copy(update=model)}
     return settings.model_copy(update=groups), s

@@ -274,7 +274,7 @@ def prediction_body(pred: Any) -> BodyModel:
     gait, model = recorded.get("gait") or {}, recorded.get("model") or {}
     body = body_for(PredictionSettings(  # only what shapes the body: other settings may be old
         gait={k: gait[k] for k in ("mass", "height", "sex") if k in gait},
-        model={k: model[k] for k in ("rollover_s", "rollover_ankle") if k in model},
+        model={k: model[k] for k in ("rollover_s", "rollover_ankle", "changes") if k in model},
     ))  # fmt: skip
     masses = np.array([s.mass for s in body.segments])
     if masses.shape != pred.segment_mass.shape or not np.allclose(

@@ -106,7 +106,7 @@ def settings_key(settings: PredictionSettings) -> dict:
     model = settings.model.model_dump(mode="json")
     model["criterion"] = terms.preset_name(settings.model.criterion) or model["criterion"]
     for flag in ("handover", *OPT_IN):  # off: as in atlases made before the setting existed
-        if model[flag] in (False, None):
+        if model[flag] in (False, None) or flag == "changes" and not settings.model.changes:
             del model[flag]
     return {"sex": settings.gait.sex, "model": model, "nodes": settings.solver.nodes,
             "ds_intervals": descriptors.ds_intervals(settings.solver.nodes),

@@ -214,7 +214,7 @@ def _model_key(body: BodyModel, model: ModelSettings) -> str:
     :func:`walk3d.problem.nlp.model_functions` receives. The gait descriptors reach the node
     functions as node parameters, so one entry serves every V, T and Td of a body."""
     fields = model.model_dump()
-    for name in ("heel_rise", "load_ramp"):  # bounds and node parameters, not the functions
+    for name in ("heel_rise", "load_ramp", "changes"):  # bounds, parameters and the body
         del fields[name]
     for name in ("passive", "passive_total"):  # off: the key before the setting existed
         if not fields[name]:

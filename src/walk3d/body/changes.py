@@ -1,0 +1,124 @@
+"""What-if changes to the body and its joints: strength factors, added point masses and joint
+limits (issue #43; docs/what-if.md).
+
+A change names a joint, segment or DoF on both sides (``ankle``, ``thigh``,
+``ankle_dorsiflexion``) or a midline one (``waist``, ``torso``). The half-cycle problem makes
+the left side the mirror of the right half a cycle later, so it holds only changes that are
+equal on both sides: a one-sided name (``ankle_r``) is refused until the full-cycle problem
+exists.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from walk3d.body.model import JOINT_NAMES, SEGMENT_NAMES, BodyModel, build_body
+
+__all__ = ["DOF_KINDS", "JOINT_KINDS", "SEGMENT_KINDS", "apply_changes", "check_changes",
+           "limited_dofs"]  # fmt: skip
+
+JOINT_KINDS = tuple(dict.fromkeys(n.removesuffix("_r").removesuffix("_l") for n in JOINT_NAMES))
+"""Joint names a strength change takes: waist, neck, shoulder, elbow, hip, knee, ankle."""
+SEGMENT_KINDS = tuple(dict.fromkeys(n.removesuffix("_r").removesuffix("_l")
+                                    for n in SEGMENT_NAMES))  # fmt: skip
+"""Segment names an added mass takes: pelvis, torso, head, upper_arm, forearm, thigh, shank,
+foot."""
+DOF_KINDS = tuple(dict.fromkeys(n.removesuffix("_r").removesuffix("_l")
+                                for n in build_body().dof_names))  # fmt: skip
+"""DoF names a joint limit takes (OpenSim's coordinate names without the side)."""
+
+MAX_ADDED_MASS_KG = 60.0
+"""Largest added mass per segment, kg: a heavy load carriage (military packs reach 40–60 kg)."""
+
+
+def _expand(name: str, full: tuple[str, ...]) -> tuple[str, ...]:
+    """The model names a change applies to: the midline name itself, or both sides."""
+    return (name,) if name in full else (f"{name}_r", f"{name}_l")
+
+
+def _side_error(name: str, kinds: tuple[str, ...], what: str) -> str | None:
+    base = name.removesuffix("_r").removesuffix("_l")
+    if name not in kinds and base in kinds:
+        return (f"{what} {name!r} is one-sided: the half-cycle problem mirrors the left side "
+                f"onto the right, so give both sides ({base!r}); one-sided changes need the "
+                "full-cycle problem, which walk3d does not have yet")  # fmt: skip
+    if name not in kinds:
+        return f"unknown {what} {name!r}; known: {', '.join(kinds)}"
+    return None
+
+
+def check_changes(
+    strength: tuple[tuple[str, float], ...],
+    added_mass: tuple[tuple[str, float], ...],
+    limits: tuple[tuple[str, float, float], ...],
+) -> None:
+    """Raise ValueError, one line, for the first bad change: an unknown or one-sided name, a
+    factor ≤ 0, a negative mass, an empty limit or one that excludes standing (angle 0)."""
+    for name, factor in strength:
+        if msg := _side_error(name, JOINT_KINDS, "joint"):
+            raise ValueError(msg)
+        if not factor > 0:
+            raise ValueError(f"strength factor of {name!r} must be > 0, got {factor:g}")
+    for name, kg in added_mass:
+        if msg := _side_error(name, SEGMENT_KINDS, "segment"):
+            raise ValueError(msg)
+        if not 0 <= kg <= MAX_ADDED_MASS_KG:
+            raise ValueError(f"added mass at {name!r} must be in [0, {MAX_ADDED_MASS_KG:g}] kg, "
+                             f"got {kg:g}")  # fmt: skip
+    for name, lo, hi in limits:
+        if msg := _side_error(name, DOF_KINDS, "DoF"):
+            raise ValueError(msg)
+        if not lo < hi:
+            raise ValueError(f"limit of {name!r} is empty: {np.degrees(lo):.4g}:"
+                             f"{np.degrees(hi):.4g} deg")  # fmt: skip
+        if not lo <= 0 <= hi:
+            raise ValueError(f"limit of {name!r} ({np.degrees(lo):.4g}:{np.degrees(hi):.4g} deg) "
+                             "excludes standing (0 deg)")  # fmt: skip
+    for what, items in (("strength", strength), ("added mass", added_mass), ("limit", limits)):
+        names = [item[0] for item in items]
+        if len(set(names)) < len(names):
+            raise ValueError(f"a {what} change names the same part twice: {', '.join(names)}")
+
+
+def apply_changes(
+    body: BodyModel,
+    strength: tuple[tuple[str, float], ...] = (),
+    added_mass: tuple[tuple[str, float], ...] = (),
+) -> BodyModel:
+    """``body`` with its joints' strengths (both directions, every DoF) times each factor and
+    each added mass, kg, at its segment's centre of mass (a point mass: the inertia about the
+    centre of mass is unchanged; ``foot`` puts that mass on each foot). The body mass grows by
+    the added masses."""
+    if not strength and not added_mass:
+        return body
+    joints = list(body.joints)
+    for name, factor in strength:
+        for jn in _expand(name, JOINT_NAMES):
+            i = JOINT_NAMES.index(jn)
+            j = joints[i]
+            joints[i] = replace(j, strength_pos=_frozen(j.strength_pos * factor),
+                                strength_neg=_frozen(j.strength_neg * factor))  # fmt: skip
+    segments = list(body.segments)
+    total = 0.0
+    for name, kg in added_mass:
+        for sn in _expand(name, SEGMENT_NAMES):
+            i = SEGMENT_NAMES.index(sn)
+            segments[i] = replace(segments[i], mass=segments[i].mass + float(kg))
+            total += float(kg)
+    return replace(body, joints=tuple(joints), segments=tuple(segments), mass=body.mass + total)
+
+
+def limited_dofs(
+    body: BodyModel, limits: tuple[tuple[str, float, float], ...]
+) -> dict[int, tuple[float, float]]:
+    """DoF index -> ``(min, max)``, rad, of each joint limit (both sides of a bilateral DoF)."""
+    names = body.dof_names
+    return {names.index(n): (lo, hi) for name, lo, hi in limits for n in _expand(name, names)}
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.setflags(write=False)
+    return a

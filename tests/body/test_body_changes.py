@@ -1,0 +1,123 @@
+"""What-if changes to the body (issue #43): strength factors, added point masses and joint
+limits, their checks, and how the reference-subject problem scales them."""
+
+import math
+
+import numpy as np
+import pytest
+
+from walk3d.body.changes import apply_changes, check_changes, limited_dofs
+from walk3d.body.model import build_body
+from walk3d.problem.ranges import joint_ranges
+from walk3d.problem.schedule import range_rows
+from walk3d.problem.settings import PredictionSettings, body_for, first_error
+from walk3d.problem.similarity import REFERENCE_MASS_KG, reference_problem
+from walk3d.problem.whatif import BRACE_HEEL_RISE, heel_rise
+
+FIVE = math.radians(5.0)
+
+
+def _total_mass(body):
+    return sum(s.mass for s in body.segments)
+
+
+def test_no_change_is_the_same_body():
+    body = build_body()
+    assert apply_changes(body) is body
+    assert apply_changes(body, (), ()) is body
+
+
+def test_strength_factor_scales_both_sides_and_both_directions_of_that_joint_only():
+    body = build_body(62.0, 1.70, "female")
+    weak = apply_changes(body, strength=(("ankle", 0.3),))
+    for old, new in zip(body.joints, weak.joints, strict=True):
+        k = 0.3 if old.name in ("ankle_r", "ankle_l") else 1.0
+        np.testing.assert_allclose(new.strength_pos, k * old.strength_pos, rtol=1e-12)
+        np.testing.assert_allclose(new.strength_neg, k * old.strength_neg, rtol=1e-12)
+    # negative control: the factor really changed the ankle
+    assert not np.allclose(weak.joints[8].strength_pos, body.joints[8].strength_pos)
+
+
+def test_added_mass_sits_at_the_centre_of_mass_and_adds_to_the_body_mass():
+    body = build_body()
+    pack = apply_changes(body, added_mass=(("torso", 10.0), ("foot", 1.0)))
+    assert pack.mass == pytest.approx(body.mass + 12.0)  # foot: 1 kg on each foot
+    assert _total_mass(pack) == pytest.approx(pack.mass, rel=1e-12)
+    for old, new in zip(body.segments, pack.segments, strict=True):
+        extra = {"torso": 10.0, "foot_r": 1.0, "foot_l": 1.0}.get(old.name, 0.0)
+        assert new.mass == pytest.approx(old.mass + extra)
+        np.testing.assert_array_equal(new.com, old.com)  # a point mass at the centre of mass
+        np.testing.assert_array_equal(new.inertia, old.inertia)
+    assert _total_mass(body) == pytest.approx(body.mass, rel=1e-12)  # the original is untouched
+
+
+@pytest.mark.parametrize(
+    ("strength", "mass", "limits", "words"),
+    [
+        ((("ankle_r", 0.5),), (), (), "one-sided"),
+        ((("toe", 0.5),), (), (), "unknown joint 'toe'"),
+        ((("knee", 0.0),), (), (), "must be > 0"),
+        ((), (("torso", -1.0),), (), "added mass at 'torso'"),
+        ((), (("torso", 61.0),), (), "added mass at 'torso'"),
+        ((), (("foot_l", 1.0),), (), "one-sided"),
+        ((), (), (("ankle_dorsiflexion", FIVE, -FIVE),), "is empty"),
+        ((), (), (("ankle_dorsiflexion", FIVE, 2 * FIVE),), "excludes standing"),
+        ((), (), (("knee_flexion_r", -FIVE, FIVE),), "one-sided"),
+        ((("knee", 0.5), ("knee", 0.6)), (), (), "same part twice"),
+    ],
+)
+def test_bad_changes_are_refused_with_one_line(strength, mass, limits, words):
+    with pytest.raises(ValueError, match=words):
+        check_changes(strength, mass, limits)
+    with pytest.raises(ValueError) as info:
+        PredictionSettings(changes={"strength": strength, "added_mass": mass, "limits": limits})
+    assert words.split("'")[0].strip() in first_error(info.value)
+    assert "\n" not in first_error(info.value)
+
+
+def test_good_changes_pass_and_mappings_are_accepted():
+    s = PredictionSettings(changes={"strength": {"ankle": 0.5}, "added_mass": {"torso": 10},
+                                    "limits": {"ankle_dorsiflexion": (-FIVE, FIVE)}})  # fmt: skip
+    c = s.model.changes
+    assert c.strength == (("ankle", 0.5),) and c.added_mass == (("torso", 10.0),)
+    assert c.limits == (("ankle_dorsiflexion", -FIVE, FIVE),) and bool(c)
+    assert not PredictionSettings().model.changes
+
+
+def test_limits_narrow_both_sides_and_get_rows_between_the_nodes():
+    s = PredictionSettings(changes={"limits": {"ankle_dorsiflexion": (-FIVE, FIVE)}})
+    body = body_for(s)
+    dofs = limited_dofs(body, s.model.changes.limits)
+    assert sorted(body.dof_names[i] for i in dofs) == ["ankle_dorsiflexion_l",
+                                                       "ankle_dorsiflexion_r"]  # fmt: skip
+    ranges, plain = joint_ranges(body, s), joint_ranges(body, PredictionSettings())
+    for i in range(24):
+        expect = (-FIVE, FIVE) if i in dofs else tuple(plain[i])
+        np.testing.assert_allclose(ranges[i], expect)
+    R, lo, hi = range_rows(body, s)
+    assert R.shape[0] == lo.size == hi.size > 0
+    np.testing.assert_allclose(hi, math.sin(FIVE / 2))
+    # negative control: without limits (and without oversampling) there are no such rows
+    assert range_rows(body, PredictionSettings())[0].shape[0] == 0
+
+
+def test_an_ankle_limit_lets_the_heel_rise_unless_heel_rise_is_given():
+    braced = PredictionSettings(changes={"limits": {"ankle_dorsiflexion": (-FIVE, FIVE)}})
+    assert heel_rise(braced.model) == BRACE_HEEL_RISE
+    knee = PredictionSettings(changes={"limits": {"knee_flexion": (-FIVE, 1.2)}})
+    assert heel_rise(knee.model) is None
+    given = PredictionSettings(heel_rise=0.6, changes=braced.model.changes)
+    assert heel_rise(given.model) == 0.6
+
+
+def test_reference_problem_keeps_the_added_mass_a_fraction_of_the_body_mass():
+    changes = {"added_mass": {"torso": 10.0}, "strength": {"knee": 0.5}}
+    s = PredictionSettings(mass=62.0, height=1.70, sex="female", changes=changes)
+    ref, _ = reference_problem(s)
+    ((name, kg),) = ref.model.changes.added_mass
+    assert name == "torso" and kg == pytest.approx(10.0 * REFERENCE_MASS_KG / 62.0)
+    assert ref.model.changes.strength == (("knee", 0.5),)
+    sub, rb = body_for(s), body_for(ref)
+    assert (sub.mass - 62.0) / 62.0 == pytest.approx(
+        (rb.mass - REFERENCE_MASS_KG) / REFERENCE_MASS_KG
+    )
