@@ -7,6 +7,7 @@ from typing import Annotated
 
 import typer
 
+from walk3d.cli.changes import AddedMass, Range, Strength, changes_option
 from walk3d.cli.commands import _calibration_fields
 from walk3d.cli.common import (
     EXIT_WRITE,
@@ -84,6 +85,9 @@ def campaign(
     linear_solver: LinearSolver = "mumps",
     hsl_library: HslLibrary = None,
     calibration: CalibrationFile = None,
+    strength: Strength = None,
+    limits: Range = None,
+    added_mass: AddedMass = None,
 ) -> None:
     """Run N random starts in parallel (Dask) and rank them. Each finished start is stored
     at once in DIR/starts/seed_<seed>/ (a walk3d predict folder plus record.json); rerunning
@@ -112,6 +116,7 @@ def campaign(
         mass=case["mass"], height=case["height"], sex=case["sex"], nodes=nodes, max_iter=max_iter,
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library, handover=handover, **_calibration_fields(calibration),
+        **changes_option(strength, limits, added_mass),
     )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign
     from walk3d.campaign.ranking import top_table
