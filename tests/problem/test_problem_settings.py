@@ -38,8 +38,8 @@ ADDED_SINCE = [
     "descriptors_from",
     "changes",
 ]
-"""Fields added later (issues #23, #24, #25, #26, #41, #42, #43), with defaults, so older files still
-load."""
+"""Fields added later (issues #23, #24, #25, #26, #41, #42, #43), with defaults, so older files
+still load."""
 
 
 def test_every_setting_belongs_to_exactly_one_group():
