@@ -21,6 +21,7 @@ from walk3d.cli import (  # noqa: F401  (register the commands)
     atlas_command,
     campaign_command,
     commands,
+    compare_command,
     report_command,
     sweep_command,
     validation,

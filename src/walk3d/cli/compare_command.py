@@ -1,0 +1,73 @@
+"""``walk3d compare DIR_A DIR_B [--out DIR]``: what changed between two predictions."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.table import Table
+
+from walk3d.cli.common import EXIT_WRITE, app, check_output_folder, console, fail
+
+_SHOWN = ("hip_flexion_r", "hip_flexion_l", "knee_flexion_r", "knee_flexion_l",
+          "ankle_dorsiflexion_r", "ankle_dorsiflexion_l")  # fmt: skip
+"""The DoFs printed (the CSV holds all 24)."""
+
+
+@app.command()
+def compare(
+    dir_a: Annotated[str, typer.Argument(help="First prediction folder (A).")],
+    dir_b: Annotated[str, typer.Argument(help="Second prediction folder (B).")],
+    out: Annotated[
+        str | None,
+        typer.Option("--out", help="Also write DIR/compare.csv (every DoF) and compare.png."),
+    ] = None,
+) -> None:
+    """Print what changed from A to B: the criteria, the body mass, and the sagittal hip, knee
+    and ankle angles (deg) and moments (N·m/kg), both sides: each one's range over the cycle
+    and the RMS and largest change, sample by sample. With --out, the table of every DoF's
+    angle and moment as compare.csv and a figure of both over the cycle as compare.png. Exit
+    code 2 for a folder that is not a result or two results that do not compare, 3 if --out
+    cannot be written."""
+    from walk3d.io.errors import DataFileError, OutputWriteError
+    from walk3d.io.tables import write_csv_table
+    from walk3d.plots.compare import compare_figure
+    from walk3d.results.compare import COLUMNS
+    from walk3d.results.compare import compare as compare_rows
+    from walk3d.results.prediction import load_result
+
+    if out is not None:
+        check_output_folder(out, replaces="compare.csv")
+    preds = []
+    for folder in (dir_a, dir_b):
+        try:
+            preds.append(load_result(folder))
+        except (OSError, DataFileError, ValueError, KeyError) as exc:
+            fail(f"cannot read {folder}: {' '.join(str(exc).split())}")
+    try:
+        rows = compare_rows(*preds)
+    except ValueError as exc:
+        fail(str(exc))
+    t = Table(title=f"walk3d compare: A = {dir_a}, B = {dir_b}")
+    for col in ("quantity", "unit", "A min/max", "B min/max", "change RMS/largest"):
+        t.add_column(col, justify="left" if col in ("quantity", "unit") else "right")
+    for r in rows:
+        if r["group"] in ("criterion", "body"):
+            if r["quantity"] in ("C_weighted", "C_tor", "C_en", "C_effort", "body_mass"):
+                t.add_row(r["quantity"], r["unit"], f"{r['a_max']:.4g}", f"{r['b_max']:.4g}",
+                          f"{r['largest_change']:+.4g}")  # fmt: skip
+        elif r["quantity"] in _SHOWN:
+            t.add_row(r["quantity"], r["unit"], f"{r['a_min']:.3g}/{r['a_max']:.3g}",
+                      f"{r['b_min']:.3g}/{r['b_max']:.3g}",
+                      f"{r['rms_change']:.2g}/{r['largest_change']:+.2g}")  # fmt: skip
+    console.print(t)
+    if out is None:
+        return
+    try:
+        folder = Path(out)
+        write_csv_table(folder / "compare.csv", COLUMNS, rows)
+        compare_figure(*preds, folder / "compare.png", labels=(Path(dir_a).name, Path(dir_b).name))
+    except (OSError, OutputWriteError) as exc:
+        fail(f"cannot write {out}: {' '.join(str(exc).split())}", code=EXIT_WRITE)
+    console.print(f"wrote {folder / 'compare.csv'} and {folder / 'compare.png'}")

@@ -1,0 +1,101 @@
+"""walk3d compare: two predictions side by side, every DoF's angle and moment and the criteria
+(issue #43). On the shipped atlas solution, no solve."""
+
+from __future__ import annotations
+
+import csv
+import subprocess
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from walk3d.body.model import build_body
+from walk3d.results.compare import COLUMNS, compare, dof_moments
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verify"))
+
+
+@pytest.fixture(scope="module")
+def pred():
+    from verify_support import atlas_prediction
+
+    p, _ = atlas_prediction()
+    objective = {"C_tor": {"total": 2.0, "x": 1.0, "y": 0.5, "z": 0.5}}
+    return replace(p, summary={**p.summary, "objective": objective, "converged": True})
+
+
+def _rows(rows, group):
+    return {r["quantity"]: r for r in rows if r["group"] == group}
+
+
+def test_dof_moments_are_the_joint_moments_on_each_dofs_axis(pred):
+    m = dof_moments(pred)
+    names, joints = list(pred.dof_names), list(pred.joint_names)
+    assert m.shape == (pred.time.size, 24)
+    np.testing.assert_array_equal(m[:, names.index("knee_flexion_r")],
+                                  pred.joint_moment[:, joints.index("knee_r"), 2])  # fmt: skip
+    np.testing.assert_array_equal(m[:, names.index("subtalar_inversion_l")],
+                                  pred.joint_moment[:, joints.index("ankle_l"), 0])  # fmt: skip
+    # every DoF once: the active axes of the joints, nothing else
+    assert int(pred.joint_axis_active.sum()) == 24 == sum(j.n_dof for j in build_body().joints)
+
+
+def test_a_prediction_against_itself_changes_nothing(pred):
+    rows = compare(pred, pred)
+    assert len(rows) == 1 + 1 + 48  # C_tor, body mass, 24 angles, 24 moments
+    for r in rows:
+        assert r["largest_change"] == 0.0 and r.get("rms_change", 0.0) == 0.0
+
+
+def test_a_changed_angle_and_mass_show_where_they_changed(pred):
+    names = list(pred.dof_names)
+    k = names.index("ankle_dorsiflexion_r")
+    angle = pred.joint_angle.copy()
+    angle[:, k] += np.radians(5.0)
+    mass = pred.segment_mass.copy()
+    mass[1] += 10.0  # torso
+    other = replace(pred, joint_angle=angle, segment_mass=mass)
+    rows = compare(pred, other)
+    angles, moments = _rows(rows, "angle"), _rows(rows, "moment")
+    assert angles["ankle_dorsiflexion_r"]["rms_change"] == pytest.approx(5.0)
+    assert angles["ankle_dorsiflexion_r"]["b_max"] == pytest.approx(
+        angles["ankle_dorsiflexion_r"]["a_max"] + 5.0)  # fmt: skip
+    assert all(r["rms_change"] == 0.0 for n, r in angles.items() if n != "ankle_dorsiflexion_r")
+    assert _rows(rows, "body")["body_mass"]["largest_change"] == pytest.approx(10.0)
+    # moments are per body mass: the same N·m over a heavier body
+    knee = moments["knee_flexion_r"]
+    assert knee["b_max"] == pytest.approx(knee["a_max"] * pred.body_mass / other.body_mass)
+
+
+def test_predictions_on_other_grids_do_not_compare(pred):
+    from types import SimpleNamespace
+
+    fewer = SimpleNamespace(dof_names=pred.dof_names, time=pred.time[::2])
+    with pytest.raises(ValueError, match="same DoFs and cycle samples"):
+        compare(pred, fewer)
+    renamed = SimpleNamespace(dof_names=pred.dof_names[::-1], time=pred.time)
+    with pytest.raises(ValueError, match="same DoFs and cycle samples"):
+        compare(pred, renamed)
+
+
+def test_cli_writes_the_table_and_figure_and_refuses_a_non_result(pred, tmp_path):
+    import walk3d
+
+    a, b = tmp_path / "a", tmp_path / "b"
+    walk3d.Prediction.of(pred).save(a, figure=False, report=False)
+    walk3d.Prediction.of(pred).save(b, figure=False, report=False)
+    out = tmp_path / "cmp"
+    cmd = [sys.executable, "-m", "walk3d.cli", "compare", str(a), str(b), "--out", str(out)]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    with open(out / "compare.csv", newline="") as handle:
+        table = list(csv.DictReader(handle))
+    assert tuple(table[0]) == COLUMNS and len(table) == 50
+    assert (out / "compare.png").stat().st_size > 10_000
+    bad = subprocess.run(cmd[:4] + [str(tmp_path / "nothing"), str(b)], capture_output=True,
+                         text=True, timeout=120)  # fmt: skip
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1, bad.stderr
+    assert "Traceback" not in bad.stderr
