@@ -14,6 +14,7 @@ from walk3d.constants import __version__
 from walk3d.io.errors import OutputWriteError
 from walk3d.problem import similarity, terms
 from walk3d.problem.settings import PredictionSettings, body_for
+from walk3d.results.asymmetry import asymmetry_or_none
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
 from walk3d.results.gait_checks import realism_figures, walking_checks
 from walk3d.results.prediction import Prediction, check_result_folder, save_prediction
@@ -107,6 +108,7 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "stride_length_target_m": settings.gait.stride_length,
         "step_width_m": ev.step_width_m,
         "cycle_violations": ev.cycle_violations,
+        "asymmetry": asymmetry_or_none(ev.prediction_arrays, mass),
         "coefficients": {
             "layout": "walk3d.problem.layout: 15 Fourier series x 11 coefficients, then the "
             "half step width (m)",
