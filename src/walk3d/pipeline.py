@@ -5,6 +5,7 @@ from __future__ import annotations
 import threading
 import warnings
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -12,7 +13,7 @@ import numpy as np
 from walk3d.body.model import BodyModel
 from walk3d.constants import __version__
 from walk3d.io.errors import OutputWriteError
-from walk3d.problem import similarity, terms
+from walk3d.problem import layout, similarity, terms
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.asymmetry import asymmetry_or_none
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
@@ -61,8 +62,10 @@ def with_predicted(
 
 
 def _start_of(stages: list[dict]) -> str:
-    """Where the solve started: the last stage's start, before any handover stage."""
-    starts = [r.get("start", "standing") for r in stages if r.get("start") != LANDING]
+    """Where the solve started: the last stage's start, before any handover or full-cycle
+    stage."""
+    starts = [r.get("start", "standing") for r in stages
+              if r.get("start") != LANDING and r.get("stage") != "full cycle"]  # fmt: skip
     return starts[-1] if starts else "standing"
 
 
@@ -75,10 +78,37 @@ def _predicted_by(settings: PredictionSettings, stages: list[dict]) -> dict:
     return {"predicted_by": "atlas" if atlas else "solve"}
 
 
-def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str) -> dict:
+def _problem(full: bool, x: np.ndarray) -> str:
+    if not full:
+        return "half cycle"
+    if np.size(x) != layout.N_XF:
+        return "half cycle: the full-cycle solve did not run (the half cycle did not converge)"
+    return "full cycle"
+
+
+def summarize(
+    settings: PredictionSettings,
+    seed: int,
+    outcome,
+    ev,
+    solver: str,
+    full: bool = False,
+) -> dict:
     """The JSON summary of a prediction (SI units, criteria exact, smoothed for reference).
-    ``body_mass_kg`` includes any what-if added mass; forces per body weight use it."""
+    ``body_mass_kg`` includes any what-if added mass; forces per body weight use it.
+    ``full``: whether the full-cycle problem was asked for (``problem`` says which one the cycle
+    is; its ``X`` is ``coefficients.x``)."""
     mass = float(body_for(settings).mass)
+    coefficients = {
+        "layout": "walk3d.problem.layout: 15 Fourier series x 11 coefficients, then the "
+        "half step width (m)"
+        + (
+            "; twice, X = [x_R, x_L], on the full cycle"
+            if np.size(outcome.x) == layout.N_XF
+            else ""
+        ),
+        "x": [float(v) for v in outcome.x],
+    }
     return {
         "walk3d_version": __version__,
         "solve_revision": SOLVE_REVISION,
@@ -109,11 +139,8 @@ def summarize(settings: PredictionSettings, seed: int, outcome, ev, solver: str)
         "step_width_m": ev.step_width_m,
         "cycle_violations": ev.cycle_violations,
         "asymmetry": asymmetry_or_none(ev.prediction_arrays, mass),
-        "coefficients": {
-            "layout": "walk3d.problem.layout: 15 Fourier series x 11 coefficients, then the "
-            "half step width (m)",
-            "x": [float(v) for v in outcome.x],
-        },
+        "problem": _problem(full, outcome.x),
+        "coefficients": coefficients,
         "gait_checks": walking_checks(
             ev.prediction_arrays,
             settings.gait.period,
@@ -159,19 +186,37 @@ def predict(
         def first(given: PredictionSettings):
             return solve_warm(given, x_ref, solver, on_stage=on_stage)
 
-    outcome = solve_with_landing(settings, first, solver, on_stage,
+    full = settings.model.full_cycle or settings.model.changes.one_sided
+    half = settings.replace(full_cycle=False, changes=settings.model.changes.both_sided())
+    outcome = solve_with_landing(half if full else settings, first, solver, on_stage,
                                  seed if warm_from is None else None)  # fmt: skip
     settings = with_predicted(settings, outcome.descriptors, outcome.handover)
+    if full and outcome.converged:
+        outcome = _full_cycle(settings, outcome, on_stage)
     if on_stage:
         on_stage("evaluating the cycle")
     body = body_for(settings)
     ev = evaluate_cycle(body, settings, outcome.x)
-    pred = make_prediction(ev.prediction_arrays, summarize(settings, seed, outcome, ev, solver))
+    summary = summarize(settings, seed, outcome, ev, solver, full)
+    pred = make_prediction(ev.prediction_arrays, summary)
     if out_dir is not None:
         if warm.is_alive():
             warm.join()  # Matplotlib's font objects are not for two threads at once
         write_result(pred, out_dir, figure, body, animate=animate, report=report)
     return pred
+
+
+def _full_cycle(settings: PredictionSettings, outcome, on_stage):
+    """The full-cycle solve from the half cycle's converged ``outcome``: the merged outcome,
+    whose ``x`` is the full cycle's ``X``."""
+    from walk3d.solve.full_cycle import solve_full_cycle
+
+    fc = solve_full_cycle(settings.replace(free=()), outcome, on_stage)
+    return replace(outcome, x=fc.x, converged=fc.converged, status=fc.record["status"],
+                   iterations=outcome.iterations + fc.record["iterations"],
+                   wall_time_s=outcome.wall_time_s + fc.record["wall_time_s"],
+                   stages=[*outcome.stages, fc.record], duals=None,
+                   max_constraint_violation=fc.record["max_constraint_violation"])  # fmt: skip
 
 
 def _warm_up_plots() -> None:

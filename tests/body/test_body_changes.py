@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from walk3d.body.changes import apply_changes, check_changes, limited_dofs
-from walk3d.body.model import build_body
+from walk3d.body.model import SEGMENT_NAMES, build_body
 from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.schedule import range_rows
 from walk3d.problem.settings import PredictionSettings, body_for, first_error
@@ -54,15 +54,16 @@ def test_added_mass_sits_at_the_centre_of_mass_and_adds_to_the_body_mass():
 @pytest.mark.parametrize(
     ("strength", "mass", "limits", "words"),
     [
-        ((("ankle_r", 0.5),), (), (), "one-sided"),
+        ((("waist_r", 0.5),), (), (), "unknown joint 'waist_r'"),
         ((("toe", 0.5),), (), (), "unknown joint 'toe'"),
         ((("knee", 0.0),), (), (), "must be > 0"),
         ((), (("torso", -1.0),), (), "added mass at 'torso'"),
         ((), (("torso", 61.0),), (), "added mass at 'torso'"),
-        ((), (("foot_l", 1.0),), (), "one-sided"),
+        ((), (("torso_l", 1.0),), (), "unknown segment 'torso_l'"),
         ((), (), (("ankle_dorsiflexion", FIVE, -FIVE),), "is empty"),
         ((), (), (("ankle_dorsiflexion", FIVE, 2 * FIVE),), "excludes standing"),
-        ((), (), (("knee_flexion_r", -FIVE, FIVE),), "one-sided"),
+        ((), (), (("knee_flexion_x", -FIVE, FIVE),), "unknown DoF 'knee_flexion_x'"),
+        ((("ankle", 0.5), ("ankle_r", 0.6)), (), (), "same part twice"),
         ((("knee", 0.5), ("knee", 0.6)), (), (), "same part twice"),
     ],
 )
@@ -73,6 +74,24 @@ def test_bad_changes_are_refused_with_one_line(strength, mass, limits, words):
         PredictionSettings(changes={"strength": strength, "added_mass": mass, "limits": limits})
     assert words.split("'")[0].strip() in first_error(info.value)
     assert "\n" not in first_error(info.value)
+
+
+def test_one_sided_changes_act_on_their_side_only():
+    body = build_body()
+    weak = apply_changes(body, strength=(("ankle_r", 0.5),), added_mass=(("foot_l", 1.0),))
+    joints = {j.name: j for j in weak.joints}
+    base = {j.name: j for j in body.joints}
+    np.testing.assert_allclose(joints["ankle_r"].strength_neg, 0.5 * base["ankle_r"].strength_neg)
+    np.testing.assert_array_equal(joints["ankle_l"].strength_neg, base["ankle_l"].strength_neg)
+    masses = {s.name: s.mass for s in weak.segments}
+    assert masses["foot_l"] == pytest.approx(body.segments[SEGMENT_NAMES.index("foot_l")].mass + 1)
+    assert masses["foot_r"] == body.segments[SEGMENT_NAMES.index("foot_r")].mass
+    s = PredictionSettings(changes={"strength": {"ankle_r": 0.5, "knee": 0.8},
+                                    "limits": {"ankle_dorsiflexion_r": (-FIVE, FIVE)}})  # fmt: skip
+    assert s.model.changes.one_sided
+    both = s.model.changes.both_sided()
+    assert both.strength == (("knee", 0.8),) and not both.limits and not both.one_sided
+    assert not PredictionSettings(changes={"strength": {"knee": 0.8}}).model.changes.one_sided
 
 
 def test_good_changes_pass_and_mappings_are_accepted():

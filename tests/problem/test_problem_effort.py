@@ -190,7 +190,7 @@ def test_passive_off_leaves_the_node_function_and_the_keys_as_they_were(monkeypa
     # the cache and atlas keys are those of the settings without the field
     s = PredictionSettings()
     dumped = s.model.model_dump()
-    opt_in = {"passive", "passive_total", "heel_rise", "load_ramp", "changes"}
+    opt_in = {"passive", "passive_total", "heel_rise", "load_ramp", "changes", "full_cycle"}
     for name in opt_in:
         del dumped[name]
     from walk3d.solve import model_cache

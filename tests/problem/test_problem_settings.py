@@ -37,6 +37,7 @@ ADDED_SINCE = [
     "load_ramp",
     "descriptors_from",
     "changes",
+    "full_cycle",
 ]
 """Fields added later (issues #23, #24, #25, #26, #41, #42, #43), with defaults, so older files
 still load."""

@@ -2,10 +2,10 @@
 limits (issue #43; docs/what-if.md).
 
 A change names a joint, segment or DoF on both sides (``ankle``, ``thigh``,
-``ankle_dorsiflexion``) or a midline one (``waist``, ``torso``). The half-cycle problem makes
-the left side the mirror of the right half a cycle later, so it holds only changes that are
-equal on both sides: a one-sided name (``ankle_r``) is refused until the full-cycle problem
-exists.
+``ankle_dorsiflexion``), on one side (``ankle_r``, ``foot_l``, ``ankle_dorsiflexion_r``) or a
+midline one (``waist``, ``torso``). The half-cycle problem makes the left side the mirror of
+the right half a cycle later, so a one-sided change needs the full-cycle problem
+(:mod:`walk3d.problem.full_cycle`), which the prediction then uses.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import numpy as np
 from walk3d.body.model import JOINT_NAMES, SEGMENT_NAMES, BodyModel, build_body
 
 __all__ = ["DOF_KINDS", "JOINT_KINDS", "SEGMENT_KINDS", "apply_changes", "check_changes",
-           "limited_dofs"]  # fmt: skip
+           "is_one_sided", "limited_dofs"]  # fmt: skip
 
 JOINT_KINDS = tuple(dict.fromkeys(n.removesuffix("_r").removesuffix("_l") for n in JOINT_NAMES))
 """Joint names a strength change takes: waist, neck, shoulder, elbow, hip, knee, ankle."""
@@ -25,8 +25,8 @@ SEGMENT_KINDS = tuple(dict.fromkeys(n.removesuffix("_r").removesuffix("_l")
                                     for n in SEGMENT_NAMES))  # fmt: skip
 """Segment names an added mass takes: pelvis, torso, head, upper_arm, forearm, thigh, shank,
 foot."""
-DOF_KINDS = tuple(dict.fromkeys(n.removesuffix("_r").removesuffix("_l")
-                                for n in build_body().dof_names))  # fmt: skip
+_DOF_NAMES = build_body().dof_names
+DOF_KINDS = tuple(dict.fromkeys(n.removesuffix("_r").removesuffix("_l") for n in _DOF_NAMES))
 """DoF names a joint limit takes (OpenSim's coordinate names without the side)."""
 
 MAX_ADDED_MASS_KG = 60.0
@@ -34,19 +34,26 @@ MAX_ADDED_MASS_KG = 60.0
 
 
 def _expand(name: str, full: tuple[str, ...]) -> tuple[str, ...]:
-    """The model names a change applies to: the midline name itself, or both sides."""
+    """The model names a change applies to: a midline or one-sided name itself, or both
+    sides."""
     return (name,) if name in full else (f"{name}_r", f"{name}_l")
 
 
-def _side_error(name: str, kinds: tuple[str, ...], what: str) -> str | None:
-    base = name.removesuffix("_r").removesuffix("_l")
-    if name not in kinds and base in kinds:
-        return (f"{what} {name!r} is one-sided: the half-cycle problem mirrors the left side "
-                f"onto the right, so give both sides ({base!r}); one-sided changes need the "
-                "full-cycle problem, which walk3d does not have yet")  # fmt: skip
-    if name not in kinds:
-        return f"unknown {what} {name!r}; known: {', '.join(kinds)}"
-    return None
+def is_one_sided(name: str) -> bool:
+    """Whether a change's name is a side's own (``ankle_r``, ``foot_l``)."""
+    return name.endswith(("_r", "_l"))
+
+
+def _name_error(name: str, kinds: tuple[str, ...], full: tuple[str, ...], what: str) -> str | None:
+    if name in kinds or (is_one_sided(name) and name in full):
+        return None
+    return f"unknown {what} {name!r}; known: {', '.join(kinds)}, sided ones also with _r or _l"
+
+
+def _overlap(names: list[str]) -> bool:
+    """Whether a part is named twice, or both without and with its side."""
+    plain = {n for n in names if not is_one_sided(n)}
+    return len(set(names)) < len(names) or any(n[:-2] in plain for n in names if is_one_sided(n))
 
 
 def check_changes(
@@ -54,21 +61,21 @@ def check_changes(
     added_mass: tuple[tuple[str, float], ...],
     limits: tuple[tuple[str, float, float], ...],
 ) -> None:
-    """Raise ValueError, one line, for the first bad change: an unknown or one-sided name, a
-    factor ≤ 0, a negative mass, an empty limit or one that excludes standing (angle 0)."""
+    """Raise ValueError, one line, for the first bad change: an unknown name, a factor ≤ 0, a
+    negative mass, an empty limit or one that excludes standing (angle 0), a part named twice."""
     for name, factor in strength:
-        if msg := _side_error(name, JOINT_KINDS, "joint"):
+        if msg := _name_error(name, JOINT_KINDS, JOINT_NAMES, "joint"):
             raise ValueError(msg)
         if not factor > 0:
             raise ValueError(f"strength factor of {name!r} must be > 0, got {factor:g}")
     for name, kg in added_mass:
-        if msg := _side_error(name, SEGMENT_KINDS, "segment"):
+        if msg := _name_error(name, SEGMENT_KINDS, SEGMENT_NAMES, "segment"):
             raise ValueError(msg)
         if not 0 <= kg <= MAX_ADDED_MASS_KG:
             raise ValueError(f"added mass at {name!r} must be in [0, {MAX_ADDED_MASS_KG:g}] kg, "
                              f"got {kg:g}")  # fmt: skip
     for name, lo, hi in limits:
-        if msg := _side_error(name, DOF_KINDS, "DoF"):
+        if msg := _name_error(name, DOF_KINDS, _DOF_NAMES, "DoF"):
             raise ValueError(msg)
         if not lo < hi:
             raise ValueError(f"limit of {name!r} is empty: {np.degrees(lo):.4g}:"
@@ -78,7 +85,7 @@ def check_changes(
                              "excludes standing (0 deg)")  # fmt: skip
     for what, items in (("strength", strength), ("added mass", added_mass), ("limit", limits)):
         names = [item[0] for item in items]
-        if len(set(names)) < len(names):
+        if _overlap(names):
             raise ValueError(f"a {what} change names the same part twice: {', '.join(names)}")
 
 
@@ -113,7 +120,8 @@ def apply_changes(
 def limited_dofs(
     body: BodyModel, limits: tuple[tuple[str, float, float], ...]
 ) -> dict[int, tuple[float, float]]:
-    """DoF index -> ``(min, max)``, rad, of each joint limit (both sides of a bilateral DoF)."""
+    """DoF index -> ``(min, max)``, rad, of each joint limit (both sides of a bilateral DoF
+    named without its side)."""
     names = body.dof_names
     return {names.index(n): (lo, hi) for name, lo, hi in limits for n in _expand(name, names)}
 

@@ -1,6 +1,7 @@
-"""The what-if options of ``walk3d predict`` (issue #43): ``--strength``, ``--range`` and
-``--added-mass``, parsed into :class:`walk3d.problem.whatif.Changes` fields (degrees at this
-edge, rad inside)."""
+"""The what-if options of ``walk3d predict``, ``campaign`` and ``sweep`` (issue #43):
+``--strength``, ``--range`` and ``--added-mass``, parsed into
+:class:`walk3d.problem.whatif.Changes` fields (degrees at this edge, rad inside), and
+``--full-cycle``."""
 
 from __future__ import annotations
 
@@ -11,25 +12,33 @@ import typer
 
 from walk3d.cli.common import fail
 
-CHANGES = "What if (both sides; docs/what-if.md)"
+CHANGES = "What if (docs/what-if.md)"
 
 Strength = Annotated[
     str | None,
     typer.Option("--strength", metavar="JOINT=FACTOR[,...]", rich_help_panel=CHANGES,
-                 help="Scale a joint's strengths (both directions), e.g. ankle=0.5: C_tor and "
-                 "the effort terms then cost more per N·m."),
+                 help="Scale a joint's strengths (both directions), e.g. ankle=0.5 (both sides) or "
+                 "ankle_r=0.5 (one side: the full cycle is solved): C_tor and the effort terms "
+                 "then cost more per N·m."),
 ]  # fmt: skip
 Range = Annotated[
     str | None,
     typer.Option("--range", metavar="DOF=MIN:MAX[,...]", rich_help_panel=CHANGES,
                  help="Bound a joint angle, deg, on the whole cycle as an orthosis does, e.g. "
-                 "ankle_dorsiflexion=-5:5 (the heel may then rise from 30 % of stance)."),
+                 "ankle_dorsiflexion_r=-5:5 (the braced foot's heel may then rise from 30 % of "
+                 "its stance)."),
 ]  # fmt: skip
 AddedMass = Annotated[
     str | None,
     typer.Option("--added-mass", metavar="SEGMENT=KG[,...]", rich_help_panel=CHANGES,
                  help="A point mass at a segment's centre of mass, e.g. torso=10 (a backpack); "
-                 "foot=1 puts 1 kg on each foot."),
+                 "foot=1 puts 1 kg on each foot, foot_r=1 on the right one."),
+]  # fmt: skip
+FullCycle = Annotated[
+    bool,
+    typer.Option("--full-cycle", rich_help_panel=CHANGES,
+                 help="Solve the full cycle, each side with its own series, after the half "
+                 "cycle (always with a one-sided change)."),
 ]  # fmt: skip
 
 
@@ -53,10 +62,12 @@ def _number(text: str, option: str, name: str) -> float:
     return v
 
 
-def changes_option(strength: str | None, limits: str | None, added_mass: str | None) -> dict:
-    """``{"changes": {...}}`` for the settings from the three options ({} when none is given),
-    or one error line and exit 2 for one that does not parse (names and values are checked by
-    the settings)."""
+def changes_option(
+    strength: str | None, limits: str | None, added_mass: str | None, full_cycle: bool = False
+) -> dict:
+    """``{"changes": {...}, "full_cycle": True}`` for the settings from the options (each only
+    when given), or one error line and exit 2 for one that does not parse (names and values are
+    checked by the settings)."""
     changes: dict[str, list] = {}
     if strength:
         changes["strength"] = [(n, _number(v, "--strength", n))
@@ -73,4 +84,4 @@ def changes_option(strength: str | None, limits: str | None, added_mass: str | N
             lo_deg, hi_deg = _number(lo, "--range", n), _number(hi, "--range", n)
             rows.append((n, math.radians(lo_deg), math.radians(hi_deg)))
         changes["limits"] = rows
-    return {"changes": changes} if changes else {}
+    return ({"changes": changes} if changes else {}) | ({"full_cycle": True} if full_cycle else {})

@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from walk3d.cli.changes import AddedMass, Range, Strength, changes_option
+from walk3d.cli.changes import AddedMass, FullCycle, Range, Strength, changes_option
 from walk3d.cli.common import (
     EXIT_WRITE,
     SOLVER,
@@ -184,6 +184,7 @@ def predict(
     strength: Strength = None,
     limits: Range = None,
     added_mass: AddedMass = None,
+    full_cycle: FullCycle = False,
 ) -> None:
     """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot,
     summary.png (and animation.mp4 with --animate) and, last, report.html. Exit code 0 if the
@@ -216,7 +217,8 @@ def predict(
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads, max_iter=max_iter,
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library, handover=handover, descriptors_from=descriptors_from,
-        **_calibration_fields(calibration), **changes_option(strength, limits, added_mass),
+        **_calibration_fields(calibration),
+        **changes_option(strength, limits, added_mass, full_cycle),
     )  # fmt: skip
     from walk3d.io.errors import OutputWriteError
     from walk3d.pipeline import predict as run

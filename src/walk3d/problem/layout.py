@@ -37,6 +37,13 @@ joints must then satisfy ``q(t + T/2) = mirror(q(t))``: their frontal/transverse
 only odd harmonics and their sagittal elements only even ones. Those coefficients stay in the
 vector (so the layout is the paper's 165) but are fixed at zero by their bounds.
 
+The full-cycle problem (:mod:`walk3d.problem.full_cycle`, for one-sided changes) has its own
+vector ``X = [x_R, x_L]`` (:data:`N_XF`): every series over the whole cycle, each side with its
+own. ``x_R`` gives the right side, the midline (all harmonics: no symmetry) and the half step
+width; ``x_L`` the left side's sided series (4–14), as the left's own series shifted by half a
+cycle, like the half cycle's left side; its midline series and step width are unused (fixed at
+zero). :func:`full_coordinate_maps` gives the coordinates from ``X``.
+
 The extra scalar, ``half_step_width``, is the lateral distance of each foot's ankle from the
 line of progression at foot flat. The paper's closed double-support loop needs it (the trailing
 foot must land where the chain puts it); it is also a useful output.
@@ -138,6 +145,48 @@ def coordinate_maps(t: np.ndarray, period: float) -> tuple[np.ndarray, np.ndarra
         for i, (s, shifted) in enumerate(COORD_SOURCE):
             block = bk @ shift if shifted else bk
             a[:, i, s * N_COEF : (s + 1) * N_COEF] = block
+        maps.append(a)
+    return maps[0], maps[1], maps[2]
+
+
+N_XF = 2 * N_X
+"""Entries of the full-cycle problem's ``X = [x_R, x_L]``."""
+MIDLINE = (0, 1, 2, 3)
+"""The midline series (waist, neck): one per cycle, in ``x_R``."""
+MIRROR_SIGN = (-1.0, -1.0, 1.0, 1.0)
+"""Sign of each midline series under left/right mirroring: the frontal and transverse waist
+elements flip, the sagittal ones do not."""
+
+
+def full_fixed_zero_mask() -> np.ndarray:
+    """Boolean (N_XF,) mask of ``X``'s unused entries: ``x_L``'s midline series and width."""
+    mask = np.zeros(N_XF, dtype=bool)
+    mask[N_X : N_X + len(MIDLINE) * N_COEF] = True
+    mask[N_X + I_HALF_STEP] = True
+    return mask
+
+
+def full_coordinate_maps(
+    t: np.ndarray, period: float, mirrored: bool = False
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Linear maps ``(len(t), 26, N_XF)`` with ``coords = A @ X`` (full-cycle problem).
+
+    ``mirrored`` False: the coordinates at ``t``. True: the coordinates half a cycle later seen
+    mirrored, sides swapped (the left foot's step as the right's), at ``t``: the sided rows
+    take the other side's series, the midline ones the series half a cycle on, mirrored.
+    """
+    b = fourier.basis(t, period)
+    shift = fourier.half_cycle_shift()
+    maps = []
+    for bk in b:
+        a = np.zeros((len(t), N_COORD, N_XF))
+        for i, (s, shifted) in enumerate(COORD_SOURCE):
+            if s in MIDLINE:
+                block, part = (bk @ shift * MIRROR_SIGN[s], 0) if mirrored else (bk, 0)
+            else:  # right rows: x_R unshifted; left rows: x_L shifted (swapped when mirrored)
+                block, part = (bk @ shift if shifted else bk), (int(shifted) ^ int(mirrored))
+            cols = part * N_X + s * N_COEF
+            a[:, i, cols : cols + N_COEF] = block
         maps.append(a)
     return maps[0], maps[1], maps[2]
 

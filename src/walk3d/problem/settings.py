@@ -150,6 +150,9 @@ class ModelSettings(_Group):
     a slope, as measured. None: the paper's ``exp(−(2x)³)``, which starts flat."""
     changes: Changes = Changes()
     """What-if changes to the body and joints (:mod:`walk3d.problem.whatif`); none: normal."""
+    full_cycle: bool = False
+    """Solve the full cycle, each side with its own series (:mod:`walk3d.problem.full_cycle`),
+    after the half cycle. Off: the paper's half cycle, unless a change is one-sided."""
 
     @field_validator("criterion")
     @classmethod
@@ -292,13 +295,8 @@ class SolverSettings(_Group):
         return {} if checks is None else dict(self._check_pairs(checks))
 
 
-OPT_IN: dict[str, Any] = {
-    "passive": False,
-    "passive_total": False,
-    "heel_rise": None,
-    "load_ramp": None,
-    "changes": Changes(),
-}
+OPT_IN: dict[str, Any] = {"passive": False, "passive_total": False, "heel_rise": None,
+                          "load_ramp": None, "changes": Changes(), "full_cycle": False}  # fmt: skip
 """Model settings whose value here leaves them out of the model-cache and atlas keys: the
 problem of a walk3d before they existed."""
 GROUPS: dict[str, type[_Group]] = {

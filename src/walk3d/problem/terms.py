@@ -231,7 +231,7 @@ def integrands(
     return out
 
 
-def _jerk_per_coefficient(period: float) -> np.ndarray:
+def jerk_per_coefficient(period: float) -> np.ndarray:
     """(N_COEF,) ``w_j`` with ``∫ (1/24) (2 q⃛ / JERK_REF)² dt = Σ_j w_j c_j²`` for one series
     over the cycle (Parseval: ``(T/2) (kω)⁶`` per cosine and sine coefficient, 0 for ``a0``)."""
     w = 2 * np.pi / period
@@ -243,14 +243,24 @@ def jerk_per_dof(x: np.ndarray, period: float) -> np.ndarray:
     """``∫ (1/24) (2 q⃛_i / JERK_REF)² dt`` over the cycle for each of the 24 DoFs, exactly (a
     half-cycle shift keeps every amplitude, so a DoF has its series' value)."""
     c = layout.coefficients(np.asarray(x, dtype=float))
-    per_series = (c * c) @ _jerk_per_coefficient(period)
+    per_series = (c * c) @ jerk_per_coefficient(period)
     return per_series[[s for s, _ in layout.COORD_SOURCE[:24]]]
+
+
+def jerk_per_dof_full(xf: np.ndarray, period: float) -> np.ndarray:
+    """:func:`jerk_per_dof` for the full-cycle problem's ``X`` (``layout.N_XF``): each DoF from
+    its own side's series."""
+    per = jerk_per_coefficient(period)
+    xf = np.asarray(xf, dtype=float)
+    sides = [((c * c) @ per) for c in (layout.coefficients(xf[: layout.N_X]),
+                                       layout.coefficients(xf[layout.N_X :]))]  # fmt: skip
+    return np.array([sides[int(shifted)][s] for s, shifted in layout.COORD_SOURCE[:24]])
 
 
 def coefficient_weights(period: float) -> np.ndarray:
     """``q`` (N_X,) with ``C_jerk = Σ_i q_i x_i²`` (:func:`jerk_per_dof` summed)."""
     count = np.bincount([s for s, _ in layout.COORD_SOURCE[:24]], minlength=layout.N_SERIES)
-    return np.concatenate([np.outer(count, _jerk_per_coefficient(period)).ravel(), [0.0]])
+    return np.concatenate([np.outer(count, jerk_per_coefficient(period)).ravel(), [0.0]])
 
 
 def angular_momentum(body: BodyModel, pose: Pose) -> tuple[Any, Any, Any]:

@@ -9,7 +9,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, field_validator, model_validator
 
-from walk3d.body.changes import check_changes
+from walk3d.body.changes import check_changes, is_one_sided
 
 __all__ = ["Changes"]
 
@@ -48,6 +48,18 @@ class Changes(BaseModel):
     def __bool__(self) -> bool:
         return bool(self.strength or self.added_mass or self.limits)
 
+    def both_sided(self) -> Changes:
+        """These changes without the one-sided ones: what the half cycle can hold."""
+        return Changes(**{k: tuple(i for i in getattr(self, k) if not is_one_sided(i[0]))
+                          for k in ("strength", "added_mass", "limits")})  # fmt: skip
+
+    @property
+    def one_sided(self) -> bool:
+        """Whether a change acts on one side only: the prediction then solves the full cycle
+        (:mod:`walk3d.problem.full_cycle`)."""
+        items = (*self.strength, *self.added_mass, *self.limits)
+        return any(is_one_sided(item[0]) for item in items)
+
 
 BRACE_HEEL_RISE = 0.3
 """Fraction of stance after which the root foot's heel may rise when the ankle's dorsiflexion
@@ -58,8 +70,10 @@ heel free from 30 % of stance it did, docs/what-if.md)."""
 
 def heel_rise(model: Any) -> float | None:
     """The heel-rise fraction the bounds use: ``model.heel_rise``, else
-    :data:`BRACE_HEEL_RISE` with a limit on ``ankle_dorsiflexion``, else None (flat)."""
+    :data:`BRACE_HEEL_RISE` with a limit on the root (right) foot's ``ankle_dorsiflexion``,
+    else None (flat)."""
     if model.heel_rise is not None:
         return model.heel_rise
-    braced = any(name == "ankle_dorsiflexion" for name, _, _ in model.changes.limits)
+    roots = ("ankle_dorsiflexion", "ankle_dorsiflexion_r")  # the root foot's ankle
+    braced = any(name in roots for name, _, _ in model.changes.limits)
     return BRACE_HEEL_RISE if braced else None

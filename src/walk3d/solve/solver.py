@@ -156,6 +156,12 @@ class Solver:
                 self.stage_build_s[key] = time.perf_counter() - t0
             return self._built[key]  # type: ignore[return-value]
 
+    def stage_problem(self, kind: str, rows: np.ndarray | None = None) -> dict:
+        """The NLP dict of ``kind`` with its derivatives, on ``rows`` (default: those its stage
+        solvers see)."""
+        rows = self.stage_rows[kind] if rows is None else rows
+        return derivatives.select_rows(self._problem(kind), rows)
+
     def _stage(self, stage: Stage | str) -> Stage:
         return self.plan[stage] if isinstance(stage, str) else stage
 
@@ -168,8 +174,7 @@ class Solver:
         key = f"{kind}:{st.max_iter}" + (":warm" if warm else "")
         with self._lock_for(key):
             if key not in self._built:
-                prob = derivatives.select_rows(self._problem(kind),
-                                               self.stage_rows[kind])  # fmt: skip
+                prob = self.stage_problem(kind)
                 t0 = time.perf_counter()
                 if self.method == "ipopt":
                     opts = ipopt_options(self.settings) | {"ipopt.max_iter": st.max_iter}
@@ -214,7 +219,7 @@ def _model_key(body: BodyModel, model: ModelSettings) -> str:
     :func:`walk3d.problem.nlp.model_functions` receives. The gait descriptors reach the node
     functions as node parameters, so one entry serves every V, T and Td of a body."""
     fields = model.model_dump()
-    for name in ("heel_rise", "load_ramp", "changes"):  # bounds, parameters and the body
+    for name in ("heel_rise", "load_ramp", "changes", "full_cycle"):  # bounds, parameters, body
         del fields[name]
     for name in ("passive", "passive_total"):  # off: the key before the setting existed
         if not fields[name]:

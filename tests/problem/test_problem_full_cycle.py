@@ -1,0 +1,97 @@
+"""The full-cycle problem's coordinate maps and side swap (:mod:`walk3d.problem.full_cycle`),
+and the cycle evaluated from its ``X``."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from walk3d.body.model import build_body
+from walk3d.problem import layout
+from walk3d.problem.full_cycle import swap_changes, swapped_side
+from walk3d.problem.settings import PredictionSettings
+from walk3d.solve.full_cycle import mirrored_start
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verify"))
+
+PERIOD = 1.08
+T = np.linspace(0.0, PERIOD, 9)
+
+
+def _half_x(seed: int) -> np.ndarray:
+    x = np.random.default_rng(seed).normal(0.0, 0.05, layout.N_X)
+    x[layout.fixed_zero_mask()] = 0.0
+    return x
+
+
+@pytest.mark.parametrize("mirrored", [False, True])
+def test_equal_sides_give_the_half_cycle_coordinates(mirrored):
+    x = _half_x(1)
+    for a, b in zip(layout.coordinate_maps(T, PERIOD),
+                    layout.full_coordinate_maps(T, PERIOD, mirrored), strict=True):  # fmt: skip
+        np.testing.assert_allclose(b @ mirrored_start(x), a @ x, atol=1e-12)
+
+
+def test_a_changed_left_series_moves_the_left_side_only():
+    """Negative control: the left knee's own series changes the left knee, not the right."""
+    x = _half_x(2)
+    xf = mirrored_start(x)
+    xf[layout.N_X + layout.SERIES_NAMES.index("knee") * layout.N_COEF + 1] += 0.05
+    a0, b0 = (
+        layout.coordinate_maps(T, PERIOD)[0] @ x,
+        layout.full_coordinate_maps(T, PERIOD)[0] @ xf,
+    )
+    dofs = list(build_body().dof_names)
+    right, left = dofs.index("knee_flexion_r"), dofs.index("knee_flexion_l")
+    np.testing.assert_allclose(b0[:, right], a0[:, right], atol=1e-12)
+    assert np.abs(b0[:, left] - a0[:, left]).max() > 0.01
+    # mirrored (step L), the roles swap: the left knee is the right-role one
+    m0 = layout.full_coordinate_maps(T, PERIOD, mirrored=True)[0] @ xf
+    assert np.abs(m0[:, right] - a0[:, right]).max() > 0.01
+    np.testing.assert_allclose(m0[:, left], a0[:, left], atol=1e-12)
+
+
+def test_the_unused_entries_are_the_left_midline_and_width():
+    mask = layout.full_fixed_zero_mask()
+    assert mask.sum() == 4 * layout.N_COEF + 1 and not mask[: layout.N_X].any()
+
+
+def test_step_l_sees_the_sides_swapped():
+    assert swapped_side("ankle_r") == "ankle_l"
+    assert swapped_side("ankle_dorsiflexion_l") == "ankle_dorsiflexion_r"
+    assert swapped_side("torso") == "torso"
+    s = PredictionSettings(changes={"strength": {"ankle_r": 0.3, "knee": 0.5},
+                                    "added_mass": {"foot_l": 1.0},
+                                    "limits": {"ankle_dorsiflexion_r": (-0.1, 0.1)}})  # fmt: skip
+    swapped = swap_changes(s.model.changes)
+    assert swapped.strength == (("ankle_l", 0.3), ("knee", 0.5))
+    assert swapped.added_mass == (("foot_r", 1.0),)
+    assert swapped.limits == (("ankle_dorsiflexion_l", -0.1, 0.1),)
+    assert swap_changes(swapped) == s.model.changes
+
+
+def test_the_mirrored_start_is_evaluated_as_the_half_cycle():
+    from verify_support import evaluate_atlas
+
+    from walk3d.results.evaluate import evaluate_cycle
+
+    settings, body, ev = evaluate_atlas()
+    import json
+
+    from verify_support import SPEED
+
+    import walk3d.solve.atlas as atlas_module
+
+    path = Path(atlas_module.__file__).parent / "atlas_data" / "male-natural.json"
+    entry = next(e for e in json.loads(path.read_text(encoding="utf-8"))["entries"]
+                 if abs(e["speed"] - SPEED) < 1e-9)  # fmt: skip
+    full = evaluate_cycle(body, settings, mirrored_start(np.array(entry["x"])))
+    for key in ("joint_angle", "joint_moment", "grf_force"):
+        np.testing.assert_allclose(full.prediction_arrays[key], ev.prediction_arrays[key],
+                                   atol=1e-9)  # fmt: skip
+    assert full.criteria["C_weighted"]["total"] == pytest.approx(
+        ev.criteria["C_weighted"]["total"], rel=1e-9
+    )
