@@ -135,18 +135,10 @@ def fixed_zero_mask() -> np.ndarray:
 def coordinate_maps(t: np.ndarray, period: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Linear maps ``A0, A1, A2`` of shape (len(t), 26, N_X) with ``coords = A @ x``.
 
-    ``A0 @ x`` gives the 26 coordinates at each time, ``A1``, ``A2`` their time derivatives.
+    ``A0 @ x`` gives the 26 coordinates at each time, ``A1``, ``A2`` their time derivatives:
+    :func:`full_coordinate_maps` with both sides on the one vector ``x``.
     """
-    b = fourier.basis(t, period)
-    shift = fourier.half_cycle_shift()
-    maps = []
-    for bk in b:
-        a = np.zeros((len(t), N_COORD, N_X))
-        for i, (s, shifted) in enumerate(COORD_SOURCE):
-            block = bk @ shift if shifted else bk
-            a[:, i, s * N_COEF : (s + 1) * N_COEF] = block
-        maps.append(a)
-    return maps[0], maps[1], maps[2]
+    return tuple(a[:, :, :N_X] + a[:, :, N_X:] for a in full_coordinate_maps(t, period))
 
 
 N_XF = 2 * N_X

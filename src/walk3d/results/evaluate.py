@@ -121,10 +121,7 @@ def _contact_residual(body, st: GaitState, x, t, settings, ph, mask) -> float:
 
 
 def evaluate_cycle(
-    body: BodyModel,
-    settings: PredictionSettings,
-    x: np.ndarray,
-    n_samples: int = 101,
+    body: BodyModel, settings: PredictionSettings, x: np.ndarray, n_samples: int = 101
 ) -> CycleEvaluation:
     """Evaluate the cycle at ``n_samples`` equally spaced times from 0 to T (inclusive), from a
     half-cycle decision vector ``x`` or the full-cycle problem's ``X``
@@ -152,8 +149,7 @@ def evaluate_cycle(
     axes = None
     extra = {name: np.zeros((n, 3)) for name in terms.EXTRAS if name != "jerk"}
     viol: list[dict[str, float]] = []
-    coord_angles = np.zeros((n, 24))
-    joint_angle = np.zeros((n, 24))
+    coords = _coords(x, t, T)
     for root, idx in blocks.items():
         if idx.size == 0:
             continue
@@ -169,10 +165,8 @@ def evaluate_cycle(
         for k, side in enumerate(("r", "l")):
             force[idx, k] = stack_v(st.feet[side][0])
             mom_o[idx, k] = stack_v(st.feet[side][1])
-        coords_b = _coords(x, tb, T)
+        coords_b = [tuple(v[idx] for v in c) for c in coords]
         q_b = [c[0] for c in coords_b[:24]]
-        coord_angles[idx] = np.column_stack([2 * np.arcsin(np.clip(q, -1, 1)) for q in q_b])
-        joint_angle[idx] = _joint_angles(body, coords_b)
         total = settings.model.passive_total
         act = active_state(body, st, q_b, total) if settings.model.passive else st  # criteria's
         m, w, axes = dof_moment_terms(body, act)
@@ -205,10 +199,10 @@ def evaluate_cycle(
         crit[name] = {"C_tor": split_by_axis(tor_i, axes), "C_en": split_by_axis(en_i, axes)}
         for term, v in extra.items():
             crit[name][f"C_{term}"] = split_by_axis(np.sum(v[periodic], axis=0) * dt, [0, 1, 2])
-        full = np.size(x) == layout.N_XF
-        jerk = (terms.jerk_per_dof_full if full else terms.jerk_per_dof)(x, T)
+        jerk = (terms.jerk_per_dof_full if np.size(x) == layout.N_XF else terms.jerk_per_dof)(x, T)
         crit[name]["C_jerk"] = split_by_axis(jerk, axes)
         crit[name]["C_weighted"] = weighted_total(settings.model.criterion, crit[name])
+    coord_angles = np.column_stack([2 * np.arcsin(np.clip(c[0], -1, 1)) for c in coords[:24]])
     violations = summarize_violations(
         viol, range_excess_deg(coord_angles, joint_ranges(body, settings))
     )
@@ -220,7 +214,7 @@ def evaluate_cycle(
         "segment_com_position": com,
         "segment_orientation": ori,
         "dof_names": body.dof_names,
-        "joint_angle": joint_angle,
+        "joint_angle": _joint_angles(body, coords),
         "joint_names": tuple(j.name for j in body.joints),
         "joint_moment": moments,
         "joint_axis_active": np.array([[k in j.dof_slots for k in range(3)] for j in body.joints]),
