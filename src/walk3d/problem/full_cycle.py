@@ -23,14 +23,11 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from walk3d.contact.phases import GaitPhases
 from walk3d.problem import layout, terms
 from walk3d.problem.nlp import row_scale
-from walk3d.problem.ranges import joint_ranges
-from walk3d.problem.schedule import LIMIT_OVERSAMPLING
+from walk3d.problem.schedule import lifted
 
-__all__ = ["FullProblem", "full_jerk_weights", "full_range_rows", "lifting", "swap_changes",
-           "swapped_side"]  # fmt: skip
+__all__ = ["FullProblem", "full_jerk_weights", "lifting", "swap_changes", "swapped_side"]
 
 N_X, N_XF = layout.N_X, layout.N_XF
 
@@ -57,30 +54,9 @@ def swap_changes(changes):
 
 
 def lifting(times: np.ndarray, period: float, mirrored: bool) -> np.ndarray:
-    """``(n, 78, N_XF)``: a step's node variables ``Y_k`` (values, rates / ω, accelerations /
-    ω²) from ``X`` at its node times (step L: ``mirrored``)."""
-    a0, a1, a2 = layout.full_coordinate_maps(times, period, mirrored)
-    omega = 2 * np.pi / period
-    return np.concatenate([a0, a1 / omega, a2 / omega**2], axis=1)
-
-
-def full_range_rows(body, settings) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Joint-range rows on ``X`` over the whole cycle, ``(R, lo, hi)``, as
-    :func:`walk3d.problem.schedule.range_rows` makes them for the half cycle (the same grid
-    spacing and DoFs; none when that makes none)."""
-    from walk3d.body.changes import limited_dofs
-
-    ph = GaitPhases(settings.gait.period, settings.gait.double_support)
-    m = settings.solver.range_oversampling * settings.solver.nodes
-    dofs = np.arange(24)
-    if m == 0 and settings.model.changes.limits:
-        m = LIMIT_OVERSAMPLING * settings.solver.nodes
-        dofs = np.array(sorted(limited_dofs(body, settings.model.changes.limits)))
-    t = ph.heel_strike_r + np.arange(2 * m) * settings.gait.period / (2 * m)
-    a0 = layout.full_coordinate_maps(t, settings.gait.period)[0]
-    ranges = joint_ranges(body, settings)[dofs]
-    rows = a0[:, dofs, :].reshape(-1, N_XF)
-    return rows, np.tile(np.sin(ranges[:, 0] / 2), 2 * m), np.tile(np.sin(ranges[:, 1] / 2), 2 * m)
+    """``(n, 78, N_XF)``: a step's node variables ``Y_k`` from ``X`` at its node times (step L:
+    ``mirrored``)."""
+    return lifted(layout.full_coordinate_maps(times, period, mirrored), period)
 
 
 def full_jerk_weights(settings) -> np.ndarray | None:
@@ -125,8 +101,6 @@ class FullProblem:
         r_mat[:, :N_XF] = ranges
         lin.append(r_mat)
         lin_dm = ca.sparsify(ca.DM(np.vstack(lin)))
-        self.n_z = n_z
-        self.offsets = (off_r, off_l)
         z = ca.MX.sym("z", n_z)
         z_r, z_l = z[off_r:off_l], z[off_l:]
         p = ca.MX.sym("p", 0)

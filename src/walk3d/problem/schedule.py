@@ -99,8 +99,12 @@ def free_schedule(settings: PredictionSettings) -> Schedule:
     )  # fmt: skip
 
 
-def range_rows(body: BodyModel, settings: PredictionSettings) -> tuple[np.ndarray, ...]:
-    """Joint-range rows on a grid ``range_oversampling`` × finer than the nodes: ``(R, lo, hi)``.
+def range_rows(
+    body: BodyModel, settings: PredictionSettings, full: bool = False
+) -> tuple[np.ndarray, ...]:
+    """Joint-range rows on a grid ``range_oversampling`` × finer than the nodes: ``(R, lo, hi)``;
+    ``full``: on the full-cycle problem's ``X`` over the whole cycle, not the half cycle's ``x``
+    over its half (:mod:`walk3d.problem.full_cycle`).
 
     Joint coordinates are linear in the coefficients, so these rows cost nothing to evaluate or
     differentiate, and they keep the series inside the anatomical ranges *between* nodes too
@@ -115,12 +119,14 @@ def range_rows(body: BodyModel, settings: PredictionSettings) -> tuple[np.ndarra
     if m == 0 and settings.model.changes.limits:  # an orthosis holds between the nodes too
         m = LIMIT_OVERSAMPLING * settings.solver.nodes
         dofs = np.array(sorted(limited_dofs(body, settings.model.changes.limits)))
-    t = ph.heel_strike_r + np.arange(m) * settings.gait.period / (2 * m)
-    a0, _, _ = layout.coordinate_maps(t, settings.gait.period)
+    n_t = 2 * m if full else m
+    t = ph.heel_strike_r + np.arange(n_t) * settings.gait.period / (2 * m)
+    maps = layout.full_coordinate_maps if full else layout.coordinate_maps
+    a0 = maps(t, settings.gait.period)[0]
     ranges = joint_ranges(body, settings)[dofs]
-    R = a0[:, dofs, :].reshape(-1, layout.N_X)
-    lo = np.tile(np.sin(ranges[:, 0] / 2), m)
-    hi = np.tile(np.sin(ranges[:, 1] / 2), m)
+    R = a0[:, dofs, :].reshape(-1, a0.shape[2])
+    lo = np.tile(np.sin(ranges[:, 0] / 2), n_t)
+    hi = np.tile(np.sin(ranges[:, 1] / 2), n_t)
     return R, lo, hi
 
 
@@ -166,6 +172,11 @@ def node_params(settings: PredictionSettings, sch) -> np.ndarray:
 def lifting_maps(settings: PredictionSettings, sch) -> np.ndarray:
     """``(n_nodes, 78, N_X)`` maps from the coefficients to each node's ``Y_k`` (values, rates
     / ω, accelerations / ω²)."""
-    a0, a1, a2 = layout.coordinate_maps(sch.times, settings.gait.period)
-    omega = 2 * np.pi / settings.gait.period
-    return np.concatenate([a0, a1 / omega, a2 / omega**2], axis=1)
+    return lifted(layout.coordinate_maps(sch.times, settings.gait.period), settings.gait.period)
+
+
+def lifted(maps: tuple[np.ndarray, ...], period: float) -> np.ndarray:
+    """``(n, 78, ·)``: coordinate maps ``(A0, A1, A2)`` stacked as ``Y_k`` holds them (values,
+    rates / ω, accelerations / ω²)."""
+    omega = 2 * np.pi / period
+    return np.concatenate([maps[0], maps[1] / omega, maps[2] / omega**2], axis=1)

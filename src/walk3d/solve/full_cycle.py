@@ -19,12 +19,11 @@ from walk3d.problem import layout, similarity
 from walk3d.problem.full_cycle import (
     FullProblem,
     full_jerk_weights,
-    full_range_rows,
     lifting,
     swap_changes,
 )
 from walk3d.problem.layout import full_coordinate_maps
-from walk3d.problem.schedule import loop_check_times
+from walk3d.problem.schedule import loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.solve.ipopt import SolveOutcome, _z_from_x, full_stage_start
 from walk3d.solve.options import ipopt_options
@@ -99,7 +98,7 @@ def solve_full_cycle(
         probs = [s.stage_problem("full", k) for s, k in zip((s_r, s_l), keep, strict=True)]
         times = s_r.schedule.times
         lifts = [lifting(times, ref.gait.period, m) for m in (False, True)]
-        ranges, lo, hi = full_range_rows(body_for(ref), ref)
+        ranges, lo, hi = range_rows(body_for(ref), ref, full=True)
         y = s_r.layout.z("y")
         t_loop = loop_check_times(ref, s_r.schedule)
         anchor = -ref.gait.stride_length / 2
@@ -113,9 +112,9 @@ def solve_full_cycle(
         lbx = np.where(fixed, 0.0, -np.inf)
         ubx = np.where(fixed, 0.0, np.inf)
         lbz, ubz = [lbx], [ubx]
-        for bb in b:  # each step's own vector: only its half step width, tied to X's
+        own = np.arange(N_X) != layout.I_HALF_STEP  # a step's own vector but its width: unused
+        for bb in b:  # fixed at zero; the width is tied to X's
             lo_s, hi_s = bb.lbz.copy(), bb.ubz.copy()
-            own = np.arange(N_X) != layout.I_HALF_STEP
             lo_s[:N_X][own], hi_s[:N_X][own] = 0.0, 0.0
             lbz.append(lo_s)
             ubz.append(hi_s)
@@ -130,7 +129,6 @@ def solve_full_cycle(
         z0 = [mirrored_start(x_ref)]
         for s in (s_r, s_l):
             zs = full_stage_start(s, _z_from_x(s, x_ref))
-            own = np.arange(N_X) != layout.I_HALF_STEP
             zs[:N_X][own] = 0.0
             z0.append(zs)
         z0 = np.concatenate(z0)
