@@ -1,5 +1,5 @@
-"""What-if changes to the body (issue #43): strength factors, added point masses and joint
-limits, their checks, and how the reference-subject problem scales them."""
+"""What-if changes to the body (issue #43): strength factors, added point masses, joint limits
+and shank lengths, their checks, and how the reference-subject problem scales them."""
 
 import math
 
@@ -8,6 +8,8 @@ import pytest
 
 from walk3d.body.changes import apply_changes, check_changes, limited_dofs
 from walk3d.body.model import SEGMENT_NAMES, build_body
+from walk3d.kinematics.forward import forward, joint_quaternions, root_foot_triples, stack_v
+from walk3d.problem.full_cycle import swap_changes
 from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.schedule import range_rows
 from walk3d.problem.settings import PredictionSettings, body_for, first_error
@@ -140,3 +142,45 @@ def test_reference_problem_keeps_the_added_mass_a_fraction_of_the_body_mass():
     assert (sub.mass - 62.0) / 62.0 == pytest.approx(
         (rb.mass - REFERENCE_MASS_KG) / REFERENCE_MASS_KG
     )
+
+
+def _standing_ankles(body):
+    """Both ankle joint centres, global, standing upright on the right foot."""
+    zero = np.zeros(1)
+    jq = joint_quaternions(body, [(zero, zero, zero)] * 24)
+    q, p = root_foot_triples(body, "r", (zero, zero, zero), (0.0, body.joints[6].offset[2]))
+    pose = forward(body, jq, body.segment_index("foot_r"), q, p)
+    return (stack_v(pose.origin[body.segment_index(f"foot_{s}")][0])[0] for s in "rl")
+
+
+def test_a_shorter_right_shank_raises_the_right_ankle_in_standing_by_as_much():
+    body = build_body()
+    short = apply_changes(body, shank_length=(("shank_r", -0.02),))
+    assert short.mass == body.mass
+    i_r, i_l = SEGMENT_NAMES.index("shank_r"), SEGMENT_NAMES.index("shank_l")
+    assert short.segments[i_r].length == pytest.approx(body.segments[i_r].length - 0.02)
+    assert short.segments[i_r].mass == body.segments[i_r].mass
+    # the ankle joint (its parent is the shank) and the centre of mass move up the shank
+    np.testing.assert_allclose(short.joints[i_r].offset, body.joints[i_r].offset + [0, 0.02, 0])
+    k = (body.segments[i_r].length - 0.02) / body.segments[i_r].length
+    np.testing.assert_allclose(short.segments[i_r].com, body.segments[i_r].com * k)
+    # control: the left shank is the body's own
+    assert short.segments[i_l] == body.segments[i_l] and short.joints[i_l] == body.joints[i_l]
+    # standing on the short leg, the pelvis is 2 cm lower and the other foot 2 cm lower too
+    (r, l_), (r0, l0) = _standing_ankles(short), _standing_ankles(body)
+    np.testing.assert_allclose(r, r0, atol=1e-12)
+    assert l0[1] - l_[1] == pytest.approx(0.02, abs=1e-12)
+    assert l0[1] == pytest.approx(r0[1], abs=1e-12)  # control: level feet on equal legs
+
+
+def test_shank_length_changes_are_checked_swapped_and_scaled():
+    for bad, words in (((("thigh_r", -0.02),), "names a shank"),
+                       ((("shank_r", 0.2),), "within ±0.1 m")):  # fmt: skip
+        with pytest.raises(ValueError, match=words):
+            check_changes((), (), (), bad)
+    c = PredictionSettings(changes={"shank_length": {"shank_r": -0.02}}).model.changes
+    assert c.one_sided and not c.both_sided() and bool(c)
+    assert swap_changes(c).shank_length == (("shank_l", -0.02),)
+    s = PredictionSettings(mass=62.0, height=1.70, sex="female", changes=c)
+    ref, scale = reference_problem(s)
+    assert ref.model.changes.shank_length == (("shank_r", pytest.approx(-0.02 / scale)),)

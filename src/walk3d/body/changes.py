@@ -1,5 +1,5 @@
-"""What-if changes to the body and its joints: strength factors, added point masses and joint
-limits (issue #43; docs/what-if.md).
+"""What-if changes to the body and its joints: strength factors, added point masses, joint
+limits and shank lengths (issue #43; docs/what-if.md).
 
 A change names a joint, segment or DoF on both sides (``ankle``, ``thigh``,
 ``ankle_dorsiflexion``), on one side (``ankle_r``, ``foot_l``, ``ankle_dorsiflexion_r``) or a
@@ -17,7 +17,7 @@ import numpy as np
 from walk3d.body.model import JOINT_NAMES, SEGMENT_NAMES, BodyModel, build_body
 
 __all__ = ["DOF_KINDS", "JOINT_KINDS", "SEGMENT_KINDS", "apply_changes", "check_changes",
-           "is_one_sided", "limited_dofs"]  # fmt: skip
+           "expand", "is_one_sided", "limited_dofs"]  # fmt: skip
 
 JOINT_KINDS = tuple(dict.fromkeys(n.removesuffix("_r").removesuffix("_l") for n in JOINT_NAMES))
 """Joint names a strength change takes: waist, neck, shoulder, elbow, hip, knee, ankle."""
@@ -29,11 +29,14 @@ _DOF_NAMES = build_body().dof_names
 DOF_KINDS = tuple(dict.fromkeys(n.removesuffix("_r").removesuffix("_l") for n in _DOF_NAMES))
 """DoF names a joint limit takes (OpenSim's coordinate names without the side)."""
 
+MAX_SHANK_CHANGE_M = 0.1
+"""Largest shank length change, m: leg-length differences above about 2 cm are treated
+clinically, and 10 cm is far beyond a shoe lift's range."""
 MAX_ADDED_MASS_KG = 60.0
 """Largest added mass per segment, kg: a heavy load carriage (military packs reach 40–60 kg)."""
 
 
-def _expand(name: str, full: tuple[str, ...]) -> tuple[str, ...]:
+def expand(name: str, full: tuple[str, ...]) -> tuple[str, ...]:
     """The model names a change applies to: a midline or one-sided name itself, or both
     sides."""
     return (name,) if name in full else (f"{name}_r", f"{name}_l")
@@ -60,9 +63,11 @@ def check_changes(
     strength: tuple[tuple[str, float], ...],
     added_mass: tuple[tuple[str, float], ...],
     limits: tuple[tuple[str, float, float], ...],
+    shank_length: tuple[tuple[str, float], ...] = (),
 ) -> None:
     """Raise ValueError, one line, for the first bad change: an unknown name, a factor ≤ 0, a
-    negative mass, an empty limit or one that excludes standing (angle 0), a part named twice."""
+    negative mass, an empty limit or one that excludes standing (angle 0), a shank change that
+    is not a shank's or beyond ±:data:`MAX_SHANK_CHANGE_M`, a part named twice."""
     for name, factor in strength:
         if msg := _name_error(name, JOINT_KINDS, JOINT_NAMES, "joint"):
             raise ValueError(msg)
@@ -83,7 +88,16 @@ def check_changes(
         if not lo <= 0 <= hi:
             raise ValueError(f"limit of {name!r} ({np.degrees(lo):.4g}:{np.degrees(hi):.4g} deg) "
                              "excludes standing (0 deg)")  # fmt: skip
-    for what, items in (("strength", strength), ("added mass", added_mass), ("limit", limits)):
+    for name, dm in shank_length:
+        if name not in ("shank", "shank_r", "shank_l"):
+            raise ValueError(f"a leg length change names a shank (shank, shank_r or shank_l), "
+                             f"got {name!r}")  # fmt: skip
+        if not abs(dm) <= MAX_SHANK_CHANGE_M:
+            raise ValueError(f"the length change of {name!r} must be within "
+                             f"±{MAX_SHANK_CHANGE_M:g} m, got {dm:g}")  # fmt: skip
+    groups = (("strength", strength), ("added mass", added_mass), ("limit", limits),
+              ("leg length", shank_length))  # fmt: skip
+    for what, items in groups:
         names = [item[0] for item in items]
         if _overlap(names):
             raise ValueError(f"a {what} change names the same part twice: {', '.join(names)}")
@@ -93,16 +107,17 @@ def apply_changes(
     body: BodyModel,
     strength: tuple[tuple[str, float], ...] = (),
     added_mass: tuple[tuple[str, float], ...] = (),
+    shank_length: tuple[tuple[str, float], ...] = (),
 ) -> BodyModel:
-    """``body`` with its joints' strengths (both directions, every DoF) times each factor and
-    each added mass, kg, at its segment's centre of mass (a point mass: the inertia about the
-    centre of mass is unchanged; ``foot`` puts that mass on each foot). The body mass grows by
-    the added masses."""
-    if not strength and not added_mass:
+    """``body`` with its joints' strengths (both directions, every DoF) times each factor, each
+    added mass, kg, at its segment's centre of mass (a point mass: the inertia about the centre
+    of mass is unchanged; ``foot`` puts that mass on each foot) and each shank's length changed
+    by the metres given (:func:`_shank`). The body mass grows by the added masses."""
+    if not strength and not added_mass and not shank_length:
         return body
     joints = list(body.joints)
     for name, factor in strength:
-        for jn in _expand(name, JOINT_NAMES):
+        for jn in expand(name, JOINT_NAMES):
             i = JOINT_NAMES.index(jn)
             j = joints[i]
             joints[i] = replace(j, strength_pos=_frozen(j.strength_pos * factor),
@@ -110,11 +125,24 @@ def apply_changes(
     segments = list(body.segments)
     total = 0.0
     for name, kg in added_mass:
-        for sn in _expand(name, SEGMENT_NAMES):
+        for sn in expand(name, SEGMENT_NAMES):
             i = SEGMENT_NAMES.index(sn)
             segments[i] = replace(segments[i], mass=segments[i].mass + float(kg))
             total += float(kg)
+    for name, dm in shank_length:
+        for sn in expand(name, SEGMENT_NAMES):
+            i = SEGMENT_NAMES.index(sn)
+            segments[i], joints[i] = _shank(segments[i], joints[i], float(dm))
     return replace(body, joints=tuple(joints), segments=tuple(segments), mass=body.mass + total)
+
+
+def _shank(seg, ankle, dm: float):
+    """The shank and its ankle joint with the knee-to-ankle length ``L`` changed by ``dm``: the
+    ankle and the centre of mass move along the shank by ``dm`` and ``dm`` times the centre of
+    mass's fraction of ``L``; mass and inertia stay (2 cm changes them by about 5 %)."""
+    k = (seg.length + dm) / seg.length
+    new_seg = replace(seg, com=_frozen(seg.com * k), length=seg.length + dm)
+    return new_seg, replace(ankle, offset=_frozen(ankle.offset * k))
 
 
 def limited_dofs(
@@ -123,7 +151,7 @@ def limited_dofs(
     """DoF index -> ``(min, max)``, rad, of each joint limit (both sides of a bilateral DoF
     named without its side)."""
     names = body.dof_names
-    return {names.index(n): (lo, hi) for name, lo, hi in limits for n in _expand(name, names)}
+    return {names.index(n): (lo, hi) for name, lo, hi in limits for n in expand(name, names)}
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:

@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from walk3d.cli.changes import AddedMass, FullCycle, Range, Strength, changes_option
+from walk3d.cli.changes import AddedMass, FullCycle, LegLength, Range, Strength, changes_option
 from walk3d.cli.commands import _calibration_fields
 from walk3d.cli.common import (
     EXIT_WRITE,
@@ -88,6 +88,7 @@ def campaign(
     strength: Strength = None,
     limits: Range = None,
     added_mass: AddedMass = None,
+    leg_length: LegLength = None,
     full_cycle: FullCycle = False,
 ) -> None:
     """Run N random starts in parallel (Dask) and rank them. Each finished start is stored
@@ -117,7 +118,7 @@ def campaign(
         mass=case["mass"], height=case["height"], sex=case["sex"], nodes=nodes, max_iter=max_iter,
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library, handover=handover, **_calibration_fields(calibration),
-        **changes_option(strength, limits, added_mass, full_cycle),
+        **changes_option(strength, limits, added_mass, full_cycle, leg_length),
     )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign
     from walk3d.campaign.ranking import top_table

@@ -1,5 +1,5 @@
 """The what-if options of ``walk3d predict``, ``campaign`` and ``sweep`` (issue #43):
-``--strength``, ``--range`` and ``--added-mass``, parsed into
+``--strength``, ``--range``, ``--added-mass`` and ``--leg-length-difference``, parsed into
 :class:`walk3d.problem.whatif.Changes` fields (degrees at this edge, rad inside), and
 ``--full-cycle``."""
 
@@ -34,6 +34,12 @@ AddedMass = Annotated[
                  help="A point mass at a segment's centre of mass, e.g. torso=10 (a backpack); "
                  "foot=1 puts 1 kg on each foot, foot_r=1 on the right one."),
 ]  # fmt: skip
+LegLength = Annotated[
+    float | None,
+    typer.Option("--leg-length-difference", metavar="M", rich_help_panel=CHANGES,
+                 help="The right shank shorter (negative) or longer, m, e.g. -0.02 (one-sided: "
+                 "the full cycle is solved)."),
+]  # fmt: skip
 FullCycle = Annotated[
     bool,
     typer.Option("--full-cycle", rich_help_panel=CHANGES,
@@ -63,12 +69,18 @@ def _number(text: str, option: str, name: str) -> float:
 
 
 def changes_option(
-    strength: str | None, limits: str | None, added_mass: str | None, full_cycle: bool = False
+    strength: str | None,
+    limits: str | None,
+    added_mass: str | None,
+    full_cycle: bool = False,
+    leg_length: float | None = None,
 ) -> dict:
     """``{"changes": {...}, "full_cycle": True}`` for the settings from the options (each only
     when given), or one error line and exit 2 for one that does not parse (names and values are
     checked by the settings)."""
     changes: dict[str, list] = {}
+    if leg_length:
+        changes["shank_length"] = [("shank_r", leg_length)]
     if strength:
         changes["strength"] = [(n, _number(v, "--strength", n))
                                for n, v in _items(strength, "--strength")]  # fmt: skip

@@ -6,7 +6,7 @@ from typing import Annotated
 
 import typer
 
-from walk3d.cli.changes import AddedMass, FullCycle, Range, Strength, changes_option
+from walk3d.cli.changes import AddedMass, FullCycle, LegLength, Range, Strength, changes_option
 from walk3d.cli.common import (
     EXIT_WRITE,
     SOLVER,
@@ -44,6 +44,7 @@ def sweep(
     strength: Strength = None,
     limits: Range = None,
     added_mass: AddedMass = None,
+    leg_length: LegLength = None,
     full_cycle: FullCycle = False,
 ) -> None:
     """Predict one gait cycle at each speed with T and Td predicted, each started from its
@@ -67,7 +68,7 @@ def sweep(
         criterion, "ipopt", seed, speed=float(values[0]), period=t, double_support=td,
         free=("period", "double_support"), mass=mass, height=height, sex=sex, nodes=nodes,
         threads=min(available_cores(), 64), restarts=restarts, max_iter=max_iter,
-        **changes_option(strength, limits, added_mass, full_cycle),
+        **changes_option(strength, limits, added_mass, full_cycle, leg_length),
     )  # fmt: skip
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 

@@ -49,6 +49,7 @@ def swap_changes(changes):
             "strength": tuple((swapped_side(n), f) for n, f in changes.strength),
             "added_mass": tuple((swapped_side(n), kg) for n, kg in changes.added_mass),
             "limits": tuple((swapped_side(n), lo, hi) for n, lo, hi in changes.limits),
+            "shank_length": tuple((swapped_side(n), m) for n, m in changes.shank_length),
         }
     )
 

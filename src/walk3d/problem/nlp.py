@@ -25,7 +25,7 @@ from walk3d.body.model import BodyModel
 from walk3d.constants import G
 from walk3d.contact.support import foot_points, support_rows
 from walk3d.contact.transition import ratio_map
-from walk3d.problem import layout, terms
+from walk3d.problem import layout, terms, whatif
 from walk3d.problem.criteria import POWER_SCALE_W, node_terms
 from walk3d.problem.derivatives import NlpPieces, NodeDerivs, derivative_functions
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
@@ -72,19 +72,9 @@ def state_at(
     w0_wrench = (tuple(w * wf for w in w0[:3]), tuple(w * wf for w in w0[3:6]))
     if handover is not None:
         handover = (handover[0], omega * handover[1], omega**2 * handover[2])
-    return evaluate(
-        body,
-        _unpack_coords(y, omega),
-        "r",
-        (0.0, hw),
-        (anchor_x, -hw),
-        decay,
-        w0_wrench,
-        dynamics=dynamics,
-        balance=balance,
-        split_total=split_total,
-        handover=handover,
-    )
+    return evaluate(body, _unpack_coords(y, omega), "r", (0.0, hw), (anchor_x, -hw), decay,
+                    w0_wrench, dynamics=dynamics, balance=balance, split_total=split_total,
+                    handover=handover)  # fmt: skip
 
 
 def signed_terms(body: BodyModel, model: ModelSettings, st: GaitState):
@@ -214,11 +204,12 @@ def node_function(
         g += [0.0] * (2 * N_T)
     w_base = terms.parse(model.criterion)[terms.base(model.criterion)]
     extra = terms.extras(model.criterion)
-    if dynamics and (extra or w_base != 1.0):
+    if dynamics and (extra or w_base != 1.0 or whatif.weakened_dofs(body, model.changes)):
         k = criterion_row(model)
-        moments = dof_moment_terms(body, st)[0]
+        moments, _, axes = dof_moment_terms(body, st)
         it = terms.integrands(body, _unpack_coords(yl, p[2]), st.pose, st.total[0], moments)
-        f[k] = w_base * f[k] + terms.weighted(extra, it) * row_scale(model)
+        cap = sum(whatif.overload(body, model.changes, moments, yl[:24], axes))
+        f[k] = w_base * f[k] + (terms.weighted(extra, it) + cap) * row_scale(model)
     g += _support(body, model, st, per_foot)
     return ca.Function("walk3d_node", [y, w0, hw, p, t], [ca.vertcat(*g), ca.vertcat(*f)])
 

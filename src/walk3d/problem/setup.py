@@ -19,7 +19,7 @@ def available_cores() -> int:
 
 def body_for(settings: Any) -> Any:
     """The :class:`~walk3d.body.model.BodyModel` of these :class:`PredictionSettings`: with the
-    calibrated roll-over, if any, and the what-if strengths and added masses."""
+    calibrated roll-over, if any, and the what-if strengths, added masses and shank lengths."""
     from dataclasses import replace
 
     import numpy as np
@@ -30,7 +30,7 @@ def body_for(settings: Any) -> Any:
 
     g, m = settings.gait, settings.model
     body = build_body(g.mass, g.height, g.sex)
-    body = apply_changes(body, m.changes.strength, m.changes.added_mass)
+    body = apply_changes(body, m.changes.strength, m.changes.added_mass, m.changes.shank_length)
     if m.rollover_s is None:
         return body
     ro = RollOver.from_samples(np.array(m.rollover_s), np.array(m.rollover_ankle))

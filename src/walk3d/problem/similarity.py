@@ -53,10 +53,9 @@ def reference_problem(settings: PredictionSettings) -> tuple[PredictionSettings,
     """The reference subject's settings whose solution is this subject's, and ``s``.
 
     Mass and stature become the reference's, the descriptors ``V, T, Td`` are divided by
-    ``√s``, a calibrated roll-over's ankle path by ``s`` and added masses by the mass ratio;
-    everything else is kept. The
-    reference subject's own settings come back unchanged (the same object), so its solves are
-    exactly those of the settings given.
+    ``√s``, a calibrated roll-over's ankle path and shank length changes by ``s`` and added
+    masses by the mass ratio; everything else is kept. The reference subject's own settings come
+    back unchanged (the same object), so its solves are exactly those of the settings given.
     """
     s = length_scale(settings)
     g, m = settings.gait, settings.model
@@ -70,10 +69,14 @@ def reference_problem(settings: PredictionSettings) -> tuple[PredictionSettings,
                  "period": g.period / root, "double_support": g.double_support / root}  # fmt: skip
         if m.rollover_ankle is not None:  # the spline is linear in its samples
             model["rollover_ankle"] = tuple(tuple(c / s for c in p) for p in m.rollover_ankle)
+    changes: dict[str, object] = {}
     if m.changes.added_mass:  # a fixed fraction of the body mass, as every segment's
         k = REFERENCE_MASS_KG / g.mass
-        added = tuple((name, kg * k) for name, kg in m.changes.added_mass)
-        model["changes"] = m.changes.model_copy(update={"added_mass": added})
+        changes["added_mass"] = tuple((name, kg * k) for name, kg in m.changes.added_mass)
+    if m.changes.shank_length and s != 1.0:  # a fixed fraction of the stature
+        changes["shank_length"] = tuple((name, dm / s) for name, dm in m.changes.shank_length)
+    if changes:
+        model["changes"] = m.changes.model_copy(update=changes)
     # not revalidated: the scaled descriptors may leave the user-facing ranges
     groups = {"gait": g.model_copy(update=gait), "model": m.model_copy(update=model)}
     return settings.model_copy(update=groups), s

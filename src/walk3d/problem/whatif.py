@@ -9,9 +9,12 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, field_validator, model_validator
 
-from walk3d.body.changes import check_changes, is_one_sided
+from walk3d import mathops as mo
+from walk3d.body.changes import check_changes, expand, is_one_sided
+from walk3d.body.model import JOINT_NAMES, BodyModel
+from walk3d.problem import effort
 
-__all__ = ["Changes"]
+__all__ = ["Changes", "overload", "weakened_dofs"]
 
 
 def _pairs(v: Any) -> Any:
@@ -34,33 +37,38 @@ class Changes(BaseModel):
     """``(segment, kg)``: a point mass at the segment's centre of mass (a backpack: torso)."""
     limits: tuple[tuple[str, float, float], ...] = ()
     """``(dof, min, max)``, rad: bounds on the joint angle over the whole cycle (an orthosis)."""
+    shank_length: tuple[tuple[str, float], ...] = ()
+    """``(shank, m)``: the shank's length changed (``shank_r``, −0.02: the right leg 2 cm
+    shorter, ``--leg-length-difference``)."""
 
-    @field_validator("strength", "added_mass", "limits", mode="before")
+    @field_validator("strength", "added_mass", "limits", "shank_length", mode="before")
     @classmethod
     def _items(cls, v: Any) -> Any:
         return _pairs(v)
 
     @model_validator(mode="after")
     def _valid(self) -> Changes:
-        check_changes(self.strength, self.added_mass, self.limits)
+        check_changes(self.strength, self.added_mass, self.limits, self.shank_length)
         return self
 
     def __bool__(self) -> bool:
-        return bool(self.strength or self.added_mass or self.limits)
+        return any(getattr(self, k) for k in KINDS)
 
     def both_sided(self) -> Changes:
         """These changes without the one-sided ones: what the half cycle can hold."""
         return Changes(**{k: tuple(i for i in getattr(self, k) if not is_one_sided(i[0]))
-                          for k in ("strength", "added_mass", "limits")})  # fmt: skip
+                          for k in KINDS})  # fmt: skip
 
     @property
     def one_sided(self) -> bool:
         """Whether a change acts on one side only: the prediction then solves the full cycle
         (:mod:`walk3d.problem.full_cycle`)."""
-        items = (*self.strength, *self.added_mass, *self.limits)
+        items = [item for k in KINDS for item in getattr(self, k)]
         return any(is_one_sided(item[0]) for item in items)
 
 
+KINDS = ("strength", "added_mass", "limits", "shank_length")
+"""The fields of :class:`Changes`, each a tuple of items named first by a part."""
 BRACE_HEEL_RISE = 0.3
 """Fraction of stance after which the root foot's heel may rise when the ankle's dorsiflexion
 is limited and ``heel_rise`` is not set: with the ankle braced the shank cannot roll over a
@@ -77,3 +85,42 @@ def heel_rise(model: Any) -> float | None:
     roots = ("ankle_dorsiflexion", "ankle_dorsiflexion_r")  # the root foot's ankle
     braced = any(name in roots for name, _, _ in model.changes.limits)
     return BRACE_HEEL_RISE if braced else None
+
+
+OVERLOAD_WEIGHT = 10.0
+"""Weight, per s, of :func:`overload`'s squared excess: a moment 10 % over a weakened joint's
+strength all through the cycle costs 0.1, about 1 % of a normal gait's criterion, one 100 %
+over costs 10."""
+OVERLOAD_EPS = 0.01
+"""Width of the smooth ``max(0, v)``, ``(v + sqrt(v² + ε²)) / 2``, in units of the strength."""
+
+
+def weakened_dofs(body: BodyModel, changes: Changes) -> list[int]:
+    """DoF indices of the joints a strength factor below 1 weakens."""
+    joints = {jn for name, f in changes.strength if f < 1 for jn in expand(name, JOINT_NAMES)}
+    out, i = [], 0
+    for joint in body.joints:
+        if joint.name in joints:
+            out += range(i, i + joint.n_dof)
+        i += joint.n_dof
+    return out
+
+
+def overload(
+    body: BodyModel, changes: Changes, moments: list[Any], values: list[Any], axes: list[int]
+) -> tuple[Any, Any, Any]:
+    """The weakened joints' moments over their strengths, per s, split by DoF axis ``(x, y,
+    z)``: ``W Σ max(0, u_i − 1)²`` (smoothly), ``u_i = |M_i| / M_max,i(θ_i)`` with the weakened,
+    angle-dependent strength of :func:`walk3d.problem.effort.strengths`, so that a weak muscle
+    cannot hold much more than it can (C_tor, linear in ``u``, only makes its moments dearer).
+    Zeros with no weakened joint. ``moments``: the 24 active DoF moments, N·m; ``values``: the
+    24 coordinate values; ``axes``: each DoF's axis label."""
+    parts = [0.0 * moments[0]] * 3
+    for i in weakened_dofs(body, changes):
+        sp, sn = effort.strengths(body, i, 2.0 * mo.asin(values[i]))
+        u = 0.5 * (1 / sp + 1 / sn) * mo.fabs(moments[i]) + 0.5 * (1 / sp - 1 / sn) * moments[i]
+        v = u - 1.0
+        parts[axes[i]] = (
+            parts[axes[i]] + OVERLOAD_WEIGHT * (0.5 * (v + mo.sqrt(v * v + OVERLOAD_EPS**2))) ** 2
+        )
+    return parts[0], parts[1], parts[2]

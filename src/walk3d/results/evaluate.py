@@ -18,7 +18,7 @@ from walk3d.contact.phases import GaitPhases
 from walk3d.contact.transition import apply_ratios, centre_of_pressure
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import point_triple, root_foot_triples, stack_q, stack_v
-from walk3d.problem import layout, terms
+from walk3d.problem import layout, terms, whatif
 from walk3d.problem.criteria import node_terms, split_by_axis
 from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
 from walk3d.problem.passive import active_state
@@ -148,6 +148,9 @@ def evaluate_cycle(
     contact = 0.0
     axes = None
     extra = {name: np.zeros((n, 3)) for name in terms.EXTRAS if name != "jerk"}
+    weak = bool(whatif.weakened_dofs(body, settings.model.changes))
+    if weak:
+        extra["overload"] = np.zeros((n, 3))
     viol: list[dict[str, float]] = []
     coords = _coords(x, t, T)
     for root, idx in blocks.items():
@@ -172,7 +175,10 @@ def evaluate_cycle(
         m, w, axes = dof_moment_terms(body, act)
         dof_m[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in m])
         dof_w[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in w])
-        for name, parts in terms.integrands(body, coords_b, st.pose, st.total[0], m).items():
+        it = terms.integrands(body, coords_b, st.pose, st.total[0], m)
+        if weak:
+            it["overload"] = whatif.overload(body, settings.model.changes, m, q_b, axes)
+        for name, parts in it.items():
             extra[name][idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in parts])
         ds = ph.double_support_mask(tb) & (
             ph.time_since_heel_strike(tb) <= settings.gait.double_support
@@ -240,6 +246,8 @@ def weighted_total(criterion: str, values: dict) -> dict:
     the per-term values ``values`` (``{"C_tor": {"total": ...}, ...}``)."""
     weights = terms.parse(criterion)
     parts = {k: w * values[f"C_{k}"]["total"] for k, w in weights.items()}
+    if "C_overload" in values:  # weakened joints' moments over their strengths (what-if)
+        parts["overload"] = values["C_overload"]["total"]
     return {"total": float(sum(parts.values())), "weights": weights, "parts": parts}
 
 
