@@ -157,3 +157,19 @@ def test_a_figure_breaks_its_lines_at_missing_values():
     assert path.count("M") == 2 and "nan" not in svg
     with pytest.raises(ValueError):
         cycle_figure(p, [], "t")
+
+
+def test_the_left_and_right_section_shows_the_asymmetry_or_says_it_is_missing():
+    from walk3d.report.prediction_page import _sides
+
+    entry = {"right": 0.5744, "left": 1.6704, "difference": -1.096}
+    summary = {"asymmetry": {"peak_ankle_plantarflexor_moment_nm_per_kg": entry,
+                             "step_length_m": {"right": 0.7459, "left": 0.7452,
+                                               "difference": 0.0007}},
+               "problem": "full cycle"}  # fmt: skip
+    html = _sides(summary)
+    row = re.search(r"<tr><td>peak ankle plantarflexor moment</td>(.*?)</tr>", html).group(1)
+    assert re.findall(r">([^<]+)</td>", row) == ["N m/kg", "0.57", "1.67", "-1.10"]
+    assert "<td>step length</td><td>m</td>" in html and "full cycle" in html
+    # negative control: a standing fallback has no steps, and the section says so
+    assert "<table" not in _sides({"asymmetry": None}) and "without steps" in _sides({})

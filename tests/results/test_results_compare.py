@@ -95,6 +95,13 @@ def test_cli_writes_the_table_and_figure_and_refuses_a_non_result(pred, tmp_path
         table = list(csv.DictReader(handle))
     assert tuple(table[0]) == COLUMNS and len(table) == 50
     assert (out / "compare.png").stat().st_size > 10_000
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert "Criteria and body" in page and 'src="data:image/png;base64,' in page
+    assert page.count("<tr>") == len(table) + 2  # every row, plus the two tables' headers
+    (out / "notes.txt").write_text("mine")  # a file walk3d did not write: refused, kept
+    again = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert again.returncode == 2 and "notes.txt" in again.stderr, again.stderr
+    assert (out / "notes.txt").read_text() == "mine"
     bad = subprocess.run(cmd[:4] + [str(tmp_path / "nothing"), str(b)], capture_output=True,
                          text=True, timeout=120)  # fmt: skip
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1, bad.stderr

@@ -241,14 +241,17 @@ def warned(func, *args, **kwargs):  # noqa: ANN001, ANN201 - passes func's resul
     return result
 
 
-def check_output_folder(path: str, option: str = "--out", replaces: str | None = None) -> None:
+def check_output_folder(
+    path: str, option: str = "--out", replaces: str | None = None, own: tuple[str, ...] = ()
+) -> None:
     """Refuse, before any work starts, an output folder that is an existing file, cannot be
-    created or written, or (with ``replaces``) is a folder of other files: one line and exit
-    code 2 (:func:`walk3d.outputs.check_output_folder`, the API's check too)."""
+    created or written, or (with ``replaces``) is a folder of other files (than ``own``, when
+    given): one line and exit code 2 (:func:`walk3d.outputs.check_output_folder`, the API's
+    check too)."""
     from walk3d.outputs import check_output_folder as check
 
     try:
-        check(path, option, replaces)
+        check(path, option, replaces, own or None)
     except ValueError as exc:
         fail(str(exc))
 

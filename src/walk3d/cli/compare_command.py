@@ -13,6 +13,8 @@ from walk3d.cli.common import EXIT_WRITE, app, check_output_folder, console, fai
 _SHOWN = ("hip_flexion_r", "hip_flexion_l", "knee_flexion_r", "knee_flexion_l",
           "ankle_dorsiflexion_r", "ankle_dorsiflexion_l")  # fmt: skip
 """The DoFs printed (the CSV holds all 24)."""
+_WRITES = ("compare.csv", "compare.png", "report.html")
+"""What ``--out`` writes: an earlier comparison's folder holding anything else is refused."""
 
 
 @app.command()
@@ -21,24 +23,31 @@ def compare(
     dir_b: Annotated[str, typer.Argument(help="Second prediction folder (B).")],
     out: Annotated[
         str | None,
-        typer.Option("--out", help="Also write DIR/compare.csv (every DoF) and compare.png."),
+        typer.Option(
+            "--out",
+            help="Also write DIR/compare.csv (every DoF), compare.png and "
+            "report.html (both in one page).",
+        ),
     ] = None,
 ) -> None:
     """Print what changed from A to B: the criteria, the body mass, and the sagittal hip, knee
     and ankle angles (deg) and moments (N·m/kg), both sides: each one's range over the cycle
     and the RMS and largest change, sample by sample. With --out, the table of every DoF's
-    angle and moment as compare.csv and a figure of both over the cycle as compare.png. Exit
+    angle and moment as compare.csv, a figure of both over the cycle as compare.png, and both
+    in report.html. Exit
     code 2 for a folder that is not a result or two results that do not compare, 3 if --out
     cannot be written."""
+    from walk3d.io._atomic import atomic_write_text
     from walk3d.io.errors import DataFileError, OutputWriteError
     from walk3d.io.tables import write_csv_table
     from walk3d.plots.compare import compare_figure
+    from walk3d.report.compare_page import compare_page
     from walk3d.results.compare import COLUMNS
     from walk3d.results.compare import compare as compare_rows
     from walk3d.results.prediction import load_result
 
     if out is not None:
-        check_output_folder(out, replaces="compare.csv")
+        check_output_folder(out, replaces="compare.csv", own=_WRITES)
     preds = []
     for folder in (dir_a, dir_b):
         try:
@@ -67,7 +76,11 @@ def compare(
     try:
         folder = Path(out)
         write_csv_table(folder / "compare.csv", COLUMNS, rows)
-        compare_figure(*preds, folder / "compare.png", labels=(Path(dir_a).name, Path(dir_b).name))
+        labels = (Path(dir_a).name, Path(dir_b).name)
+        compare_figure(*preds, folder / "compare.png", labels=labels)
+        page = compare_page(rows, (folder / "compare.png").read_bytes(), labels)
+        atomic_write_text(folder / "report.html", page)
     except (OSError, OutputWriteError) as exc:
         fail(f"cannot write {out}: {' '.join(str(exc).split())}", code=EXIT_WRITE)
-    console.print(f"wrote {folder / 'compare.csv'} and {folder / 'compare.png'}")
+    console.print(f"wrote {folder / 'compare.csv'}, {folder / 'compare.png'} and "
+                  f"{folder / 'report.html'}")  # fmt: skip

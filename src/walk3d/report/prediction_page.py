@@ -157,6 +157,33 @@ def _criteria(summary: dict) -> str:
     return "".join(out)
 
 
+_UNITS = (("_nm_per_kg", "N m/kg", ".2f"), ("_deg", "deg", ".1f"), ("_bw", "BW", ".2f"),
+          ("_m", "m", ".3f"), ("_s", "s", ".3f"))  # fmt: skip
+"""``asymmetry`` key suffixes: the unit shown and the number format."""
+
+
+def _sides(summary: dict) -> str:
+    """``summary.json``'s ``asymmetry``: right, left and right − left per quantity."""
+    asym = summary.get("asymmetry")
+    if not isinstance(asym, dict) or not asym:
+        return h.note("No left-against-right figures in the summary (a result without steps).")
+    rows = []
+    for key, entry in asym.items():
+        suffix, unit, spec = next((u for u in _UNITS if key.endswith(u[0])), ("", "", ".3g"))
+        if not isinstance(entry, dict):
+            continue
+        label = key.removesuffix(suffix).replace("_", " ")
+        rows.append((label, unit, h.fmt(entry.get("right"), spec), h.fmt(entry.get("left"), spec),
+                     h.fmt(entry.get("difference"), "+" + spec)))  # fmt: skip
+    problem = summary.get("problem", "half cycle")
+    why = ("each side has its own series" if problem == "full cycle" else
+           "the left side mirrors the right, so the differences are sampling only")  # fmt: skip
+    return h.table(("quantity", "unit", "right", "left", "right − left"), rows) + h.note(
+        f"Problem: {problem} ({why}). Stance: vertical force above 2 % of body weight; peaks "
+        "over the cycle (docs/what-if.md)."
+    )
+
+
 def _figures(pred: Prediction, norms: Norms) -> str:
     try:
         percent, predicted = align_prediction(pred)
@@ -223,6 +250,7 @@ def prediction_sections(
         h.section("Inputs", _inputs(s), level=level),
         h.section("Convergence", _convergence(s), level=level),
         h.section("Criteria", _criteria(s), level=level),
+        h.section("Left and right", _sides(s), level=level),
         h.section("Gait cycle against measured walking", _figures(pred, norms), level=level),
         h.section("Animation", _animation(video_dir, where), level=level),
     ]

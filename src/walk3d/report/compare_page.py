@@ -1,0 +1,41 @@
+"""The page of ``walk3d compare A B --out DIR``: what changed from A to B, as
+``DIR/report.html`` beside ``compare.csv`` and ``compare.png`` (docs/what-if.md)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from walk3d.report import html as h
+
+__all__ = ["compare_page"]
+
+
+def _number(row: dict[str, Any], key: str, spec: str) -> str:
+    return h.fmt(row.get(key), spec)
+
+
+def compare_page(rows: list[dict[str, Any]], figure_png: bytes, labels: tuple[str, str]) -> str:
+    """The self-contained HTML page of :func:`walk3d.results.compare.compare`'s ``rows`` and
+    the figure of :func:`walk3d.plots.compare.compare_figure` (PNG bytes); ``labels``: the
+    names of A and B."""
+    a, b = labels
+    scalars = [(r["quantity"], r["unit"] or "–", _number(r, "a_max", ".4g"),
+                _number(r, "b_max", ".4g"), _number(r, "largest_change", "+.4g"))
+               for r in rows if r["group"] in ("criterion", "body")]  # fmt: skip
+    curves = [(r["quantity"], r["group"], r["unit"],
+               f"{_number(r, 'a_min', '.3g')} … {_number(r, 'a_max', '.3g')}",
+               f"{_number(r, 'b_min', '.3g')} … {_number(r, 'b_max', '.3g')}",
+               _number(r, "rms_change", ".2g"), _number(r, "largest_change", "+.2g"))
+              for r in rows if r["group"] in ("angle", "moment")]  # fmt: skip
+    return h.page(
+        f"walk3d compare: {a} against {b}",
+        h.note(f"A = {a}, B = {b}. Changes are B − A, sample by sample on the 101-sample cycle "
+               "from right heel strike; moments per kg of each prediction's own body mass."),
+        h.section("Criteria and body", h.table(("quantity", "unit", "A", "B", "B − A"), scalars)),
+        h.section(
+            "Joint angles and moments, both sides",
+            h.img(figure_png, f"{a} (solid) against {b} (dashed) over the gait cycle"),
+            h.table(("DoF", "kind", "unit", "A range", "B range", "RMS change",
+                     "largest change"), curves),
+        ),
+    )  # fmt: skip
