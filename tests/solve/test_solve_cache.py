@@ -197,14 +197,20 @@ def test_model_functions_read_only_the_model_settings_of_the_key(recorded):
     assert set(fns) == {"loop"} | {nlp._node_name(d, b, h) for d, b in nlp.STAGES.values()
                                    for h in (True, False)}  # fmt: skip
     # passive is in the key when on; off, it is left out and the functions are those before it
-    assert read == {"absolute", "balance_split", "cop_margin", "criterion", "free_moment_radius",
-                    "friction", "handover", "passive", "smoothing"}  # fmt: skip
+    assert read == {"absolute", "balance_split", "changes", "cop_margin", "criterion",
+                    "free_moment_radius", "friction", "handover", "passive",
+                    "smoothing"}  # fmt: skip
     # the model's other fields shape the body (calibrated roll-over) or the NLP's bounds and
     # heel-strike map, not these functions: in the key, they cost a rebuild when changed
     assert read < set(ModelSettings.model_fields)
     rougher = SETTINGS.replace(friction=0.6)
     assert _key(rougher) != _key(SETTINGS)
     node = nlp.node_function(body_for(rougher), rougher.model)
+    assert node.serialize() != fns[nlp._node_name(True, True, False)].serialize()
+    # a weakened joint's overload term is in the node function, and its changes in the key
+    weak = SETTINGS.replace(changes={"strength": {"ankle_r": 0.5}})
+    assert _key(weak) != _key(SETTINGS)
+    node = nlp.node_function(body_for(weak), weak.model)
     assert node.serialize() != fns[nlp._node_name(True, True, False)].serialize()
 
 
