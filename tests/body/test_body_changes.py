@@ -94,6 +94,19 @@ def test_one_sided_changes_act_on_their_side_only():
     both = s.model.changes.both_sided()
     assert both.strength == (("knee", 0.8),) and not both.limits and not both.one_sided
     assert not PredictionSettings(changes={"strength": {"knee": 0.8}}).model.changes.one_sided
+    # the half cycle that starts the full cycle keeps a one-sided limit, on both sides
+    half = s.model.changes.half_cycle()
+    assert half.strength == (("knee", 0.8),) and not half.one_sided
+    assert half.limits == (("ankle_dorsiflexion", -FIVE, FIVE),)
+    two = PredictionSettings(
+        changes={
+            "limits": {
+                "ankle_dorsiflexion_r": (-FIVE, 2 * FIVE),
+                "ankle_dorsiflexion_l": (-2 * FIVE, FIVE),
+            }
+        }
+    )
+    assert two.model.changes.half_cycle().limits == (("ankle_dorsiflexion", -FIVE, FIVE),)
 
 
 def test_good_changes_pass_and_mappings_are_accepted():

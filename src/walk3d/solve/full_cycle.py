@@ -84,7 +84,8 @@ def solve_full_cycle(
     max_iter: int = FULL_CYCLE_MAX_ITER,
 ) -> FullCycleOutcome:
     """Solve ``settings`` (T and Td given) on the full cycle, started from ``half``, a
-    half-cycle outcome of the same gait (without the one-sided changes)."""
+    half-cycle outcome of the same gait (with :meth:`Changes.half_cycle
+    <walk3d.problem.whatif.Changes.half_cycle>`)."""
     if settings.gait.free:
         raise ValueError("the full-cycle problem needs T and Td (solve the half cycle first)")
     ref, scale = similarity.reference_problem(settings)
