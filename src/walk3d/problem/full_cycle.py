@@ -24,7 +24,7 @@ import casadi as ca
 import numpy as np
 
 from walk3d.problem import layout, terms
-from walk3d.problem.nlp import row_scale
+from walk3d.problem.nlp import loop_rows, row_scale
 from walk3d.problem.schedule import lifted
 
 __all__ = ["FullProblem", "full_jerk_weights", "lifting", "swap_changes", "swapped_side"]
@@ -78,7 +78,8 @@ def full_jerk_weights(settings) -> np.ndarray | None:
 class FullProblem:
     """The composed NLP: ``z = [X, z_R, z_L]``, ``g = [g_R, g_L, lifting R, lifting L, widths,
     ranges, loop checks]`` (``rows``: the sizes of g_R, g_L, the linear rows and the loop
-    checks), with its derivative functions."""
+    checks), with its derivative functions. ``loops``: per step, ``(loop function, coordinate
+    map (m, 26, N_XF), anchor_x)`` of its loop checks between the nodes (:func:`loop_rows`)."""
 
     def __init__(self, prob_r: dict, prob_l: dict, lift_r, lift_l, ranges, quad, y_slice,
                  loops=()):  # fmt: skip
@@ -116,7 +117,7 @@ class FullProblem:
         f = 0.5 * (f_r + f_l) + ca.dot(q, x * x)
         grad = ca.vertcat(2 * q * x, 0.5 * grad_r, 0.5 * grad_l)
         xs = ca.MX.sym("X", N_XF)
-        g_xs = self._loops(xs, loops)
+        g_xs = ca.vertcat(ca.MX(0, 1), *(loop_rows(fn, cmap, xs, ax) for fn, cmap, ax in loops))
         n_loop = g_xs.numel()
         lam_s = ca.MX.sym("lam_loop", n_loop)
         loop_fn = ca.Function("walk3d_full_loops", [xs], [g_xs, ca.jacobian(g_xs, xs)])
@@ -156,17 +157,3 @@ class FullProblem:
             "g": ca.vertcat(g_fr(zz[off_r:off_l]), g_fl(zz[off_l:]), ca.mtimes(lin_dm, zz),
                             loop_fn(xx)[0]),
         }  # fmt: skip
-
-    @staticmethod
-    def _loops(x: ca.MX, loops) -> ca.MX:
-        """Each step's closed-loop checks between its nodes: ``(loop function, coordinate map
-        (m, 26, N_XF), anchor_x)`` per step."""
-        rows = [ca.MX(0, 1)]
-        for fn, cmap, anchor in loops:
-            m = cmap.shape[0]
-            if m:
-                c = ca.reshape(ca.mtimes(ca.sparsify(ca.DM(cmap.reshape(-1, N_XF))), x),
-                               layout.N_COORD, m)  # fmt: skip
-                hw = x[layout.I_HALF_STEP]
-                rows.append(ca.vec(fn.map(m)(c, hw, ca.DM(np.full((1, m), anchor)))))
-        return ca.vertcat(*rows)

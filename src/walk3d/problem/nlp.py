@@ -226,6 +226,18 @@ def loop_function(body: BodyModel, model: ModelSettings) -> ca.Function:
     return ca.Function("walk3d_loop", [c, hw, ax], [ca.vertcat(*rows)])
 
 
+def loop_rows(loop: ca.Function, cmap: np.ndarray, x: ca.MX, anchor_x: float) -> ca.MX:
+    """The closed-loop checks of :func:`loop_function` at ``m`` instants between the nodes:
+    ``cmap`` (m, 26, n) maps the coefficients ``x`` (n) to their coordinates; the half step
+    width is ``x``'s, the other foot's anchor ``anchor_x``, m."""
+    m = cmap.shape[0]
+    if m == 0:
+        return ca.MX(0, 1)
+    c = ca.mtimes(ca.sparsify(ca.DM(cmap.reshape(-1, cmap.shape[-1]))), x)
+    hw, ax = x[layout.I_HALF_STEP], ca.DM(np.full((1, m), anchor_x))
+    return ca.vec(loop.map(m)(ca.reshape(c, layout.N_COORD, m), hw, ax))
+
+
 def criterion_row(model: ModelSettings) -> int:
     """The row of the node function's ``f`` that the NLP minimizes: 0 for a criterion built on
     C_tor, 1 on C_en (its extra terms, :mod:`walk3d.problem.terms`, are added to that row)."""
@@ -367,15 +379,11 @@ def build_nlp(
     range_np = range_rows(body, settings)[0]
     range_mat = ca.sparsify(ca.DM(range_np))
     t_loop = loop_check_times(settings, sch)
-    if t_loop.size:
-        c_map = layout.coordinate_maps(t_loop, settings.gait.period)[0].reshape(-1, layout.N_X)
-        c_map = ca.DM(c_map)
-        c_loop = ca.reshape(ca.mtimes(ca.sparsify(c_map), x), layout.N_COORD, t_loop.size)
-        anchor = ca.DM(np.full((1, t_loop.size), -settings.gait.stride_length / 2))
-        loop = (functions or {}).get("loop") or loop_function(body, settings.model)
-        g_loop = ca.vec(loop.map(t_loop.size)(c_loop, x[layout.I_HALF_STEP], anchor))
-    else:
-        g_loop = ca.MX(0, 1)
+    loop = (functions or {}).get("loop") or (
+        loop_function(body, settings.model) if t_loop.size else None
+    )
+    c_map = layout.coordinate_maps(t_loop, settings.gait.period)[0]
+    g_loop = loop_rows(loop, c_map, x, -settings.gait.stride_length / 2)
     g = ca.vertcat(g_lift, ca.vec(nc.gk), nc.g_hs, ca.mtimes(range_mat, x), g_loop)
     prob = {"x": z, "f": f, "g": g}
     if settings.solver.derivatives == "structured":
