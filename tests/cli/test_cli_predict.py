@@ -199,12 +199,18 @@ def test_paper_flag_gives_the_papers_case_and_auto_predicts_the_descriptors(tmp_
 
 
 @pytest.mark.parametrize("command", [["campaign", "--starts", "1"], ["sweep", "--speeds", "1.2"]])
-def test_campaign_and_sweep_refuse_bad_what_if_changes(tmp_path, command):
+@pytest.mark.parametrize(
+    ("option", "words"),
+    [
+        (["--added-mass", "torso=-2"], "added mass at 'torso'"),
+        (["--leg-length-difference", "0.3"], "'shank_r'"),
+    ],
+)
+def test_campaign_and_sweep_refuse_bad_what_if_changes(tmp_path, command, option, words):
     out = tmp_path / "o"
-    cmd = [sys.executable, "-m", "walk3d.cli", *command, "--out", str(out),
-           "--added-mass", "torso=-2"]  # fmt: skip
+    cmd = [sys.executable, "-m", "walk3d.cli", *command, "--out", str(out), *option]
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
     assert r.returncode == 2, r.stderr
     lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1 and "added mass at 'torso'" in lines[0], r.stderr
+    assert len(lines) == 1 and words in lines[0], r.stderr
     assert not out.exists()
