@@ -95,3 +95,44 @@ def test_the_mirrored_start_is_evaluated_as_the_half_cycle():
     assert full.criteria["C_weighted"]["total"] == pytest.approx(
         ev.criteria["C_weighted"]["total"], rel=1e-9
     )
+
+
+@pytest.mark.model
+def test_the_composed_derivatives_equal_casadi():
+    """The full cycle's gradient, Jacobian and Hessian, composed from the steps' structured
+    ones and the rows on ``X``, against CasADi's own of the same NLP; a weak right ankle puts
+    the overload term in step R only (step L's body is another one). Control: the same
+    Hessian without that change is another one."""
+    import casadi as ca
+
+    from walk3d.solve.full_cycle import build_full_problem
+
+    gait = {"speed": 1.3806, "period": 1.08, "double_support": 0.16, "nodes": 6}
+    weak = build_full_problem(PredictionSettings(**gait, changes={"strength": {"ankle_r": 0.3}}))
+    fp = weak.problem
+    z, f, g = fp.nlp["x"], fp.nlp["f"], fp.nlp["g"]
+    lf, lg = ca.MX.sym("lf"), ca.MX.sym("lg", g.numel())
+    jac = ca.Function("j", [z], [ca.jacobian(g, z)])
+    grad = ca.Function("gf", [z], [ca.gradient(f, z)])
+    hess = ca.Function("h", [z, lf, lg], [ca.triu(ca.hessian(lf * f + ca.dot(lg, g), z)[0])])
+    rng = np.random.default_rng(5)
+    z0 = rng.uniform(-0.05, 0.05, z.numel())
+    lam = rng.normal(size=g.numel())
+    d = fp.derivatives
+
+    def dense(m):
+        return np.array(ca.densify(ca.DM(m)))
+
+    g_val, j_val = d["jac_g"](z0, [])
+    np.testing.assert_allclose(dense(j_val), dense(jac(z0)), rtol=0, atol=1e-10)
+    np.testing.assert_allclose(dense(g_val).ravel(), dense(ca.Function("g", [z], [g])(z0)).ravel(),
+                               rtol=1e-12, atol=1e-12)  # fmt: skip
+    gf_ref = dense(grad(z0))
+    np.testing.assert_allclose(dense(d["grad_f"](z0, [])[1]), gf_ref, rtol=1e-12,
+                               atol=1e-12 * np.abs(gf_ref).max())  # fmt: skip
+    h_ref = dense(hess(z0, 0.7, lam))
+    h_val = dense(d["hess_lag"](z0, [], 0.7, lam))
+    np.testing.assert_allclose(h_val, h_ref, rtol=0, atol=1e-10 * np.abs(h_ref).max())
+    plain = build_full_problem(PredictionSettings(**gait)).problem
+    h_plain = dense(plain.derivatives["hess_lag"](z0, [], 0.7, lam))
+    assert np.abs(h_plain - h_val).max() > 1e-6 * np.abs(h_val).max()

@@ -31,7 +31,14 @@ from walk3d.solve.plan import SUCCESS
 from walk3d.solve.progress import bound_violation, interruptible, raise_if_interrupted
 from walk3d.solve.solver import Solver, build_solver
 
-__all__ = ["FULL_CYCLE_MAX_ITER", "FullCycleOutcome", "left_settings", "solve_full_cycle"]
+__all__ = [
+    "FULL_CYCLE_MAX_ITER",
+    "FullCycleOutcome",
+    "FullNlp",
+    "build_full_problem",
+    "left_settings",
+    "solve_full_cycle",
+]
 
 FULL_CYCLE_MAX_ITER = 300
 """Iteration limit of the full-cycle solve (from the mirrored half cycle)."""
@@ -77,6 +84,57 @@ def mirrored_start(x_half: np.ndarray) -> np.ndarray:
     return xf
 
 
+@dataclass(frozen=True)
+class FullNlp:
+    """The full-cycle NLP of the reference subject's settings, with its bounds."""
+
+    problem: FullProblem
+    lbz: np.ndarray
+    ubz: np.ndarray
+    lbg: np.ndarray
+    ubg: np.ndarray
+    steps: tuple[Solver, Solver]
+    """Step R's and step L's half-cycle solvers."""
+    own: np.ndarray
+    """A step's own vector entries that are fixed at zero (all but its half step width)."""
+
+
+def build_full_problem(ref: PredictionSettings) -> FullNlp:
+    """The full-cycle NLP (:class:`FullProblem`) of ``ref`` (the reference subject's settings,
+    T and Td given), from the half-cycle NLPs of both steps."""
+    ref_l = left_settings(ref)
+    s_r = build_solver(ref)
+    s_l = s_r if ref_l == ref else build_solver(ref_l)
+    keep = [_kept_rows(s) for s in (s_r, s_l)]
+    probs = [s.stage_problem("full", k) for s, k in zip((s_r, s_l), keep, strict=True)]
+    times = s_r.schedule.times
+    lifts = [lifting(times, ref.gait.period, m) for m in (False, True)]
+    ranges, lo, hi = range_rows(body_for(ref), ref, full=True)
+    t_loop = loop_check_times(ref, s_r.schedule)
+    anchor = -ref.gait.stride_length / 2
+    loops = [(s.functions["loop"], full_coordinate_maps(t_loop, ref.gait.period, m)[0], anchor)
+             for s, m in ((s_r, False), (s_l, True))]  # fmt: skip
+    fp = FullProblem(probs[0], probs[1], lifts[0], lifts[1], ranges, full_jerk_weights(ref),
+                     s_r.layout.z("y"), loops)  # fmt: skip
+    n_lift = sum(lf.shape[0] * lf.shape[1] for lf in lifts)
+    b = [s.nlp_bounds("full") for s in (s_r, s_l)]
+    fixed = layout.full_fixed_zero_mask()
+    lbz, ubz = [np.where(fixed, 0.0, -np.inf)], [np.where(fixed, 0.0, np.inf)]
+    own = np.arange(N_X) != layout.I_HALF_STEP
+    for bb in b:  # fixed at zero; the width is tied to X's
+        lo_s, hi_s = bb.lbz.copy(), bb.ubz.copy()
+        lo_s[:N_X][own], hi_s[:N_X][own] = 0.0, 0.0
+        lbz.append(lo_s)
+        ubz.append(hi_s)
+    zeros = np.zeros(n_lift + 2)
+    loop_b = [s.layout.g("loop") for s in (s_r, s_l)]
+    lbg = np.r_[b[0].lbg[keep[0]], b[1].lbg[keep[1]], zeros, lo,
+                b[0].lbg[loop_b[0]], b[1].lbg[loop_b[1]]]  # fmt: skip
+    ubg = np.r_[b[0].ubg[keep[0]], b[1].ubg[keep[1]], zeros, hi,
+                b[0].ubg[loop_b[0]], b[1].ubg[loop_b[1]]]  # fmt: skip
+    return FullNlp(fp, np.concatenate(lbz), np.concatenate(ubz), lbg, ubg, (s_r, s_l), own)
+
+
 def solve_full_cycle(
     settings: PredictionSettings,
     half: SolveOutcome,
@@ -89,46 +147,14 @@ def solve_full_cycle(
     if settings.gait.free:
         raise ValueError("the full-cycle problem needs T and Td (solve the half cycle first)")
     ref, scale = similarity.reference_problem(settings)
-    ref_l = left_settings(ref)
     with interruptible():
-        s_r = build_solver(ref)
-        s_l = s_r if ref_l == ref else build_solver(ref_l)
         if on_stage:
             on_stage("building the full-cycle problem (both steps)")
-        keep = [_kept_rows(s) for s in (s_r, s_l)]
-        probs = [s.stage_problem("full", k) for s, k in zip((s_r, s_l), keep, strict=True)]
-        times = s_r.schedule.times
-        lifts = [lifting(times, ref.gait.period, m) for m in (False, True)]
-        ranges, lo, hi = range_rows(body_for(ref), ref, full=True)
-        y = s_r.layout.z("y")
-        t_loop = loop_check_times(ref, s_r.schedule)
-        anchor = -ref.gait.stride_length / 2
-        loops = [(s.functions["loop"], full_coordinate_maps(t_loop, ref.gait.period, m)[0], anchor)
-                 for s, m in ((s_r, False), (s_l, True))]  # fmt: skip
-        fp = FullProblem(probs[0], probs[1], lifts[0], lifts[1], ranges,
-                         full_jerk_weights(ref), y, loops)  # fmt: skip
-        n_lift = sum(lf.shape[0] * lf.shape[1] for lf in lifts)
-        b = [s.nlp_bounds("full") for s in (s_r, s_l)]
-        fixed = layout.full_fixed_zero_mask()
-        lbx = np.where(fixed, 0.0, -np.inf)
-        ubx = np.where(fixed, 0.0, np.inf)
-        lbz, ubz = [lbx], [ubx]
-        own = np.arange(N_X) != layout.I_HALF_STEP  # a step's own vector but its width: unused
-        for bb in b:  # fixed at zero; the width is tied to X's
-            lo_s, hi_s = bb.lbz.copy(), bb.ubz.copy()
-            lo_s[:N_X][own], hi_s[:N_X][own] = 0.0, 0.0
-            lbz.append(lo_s)
-            ubz.append(hi_s)
-        lbz, ubz = np.concatenate(lbz), np.concatenate(ubz)
-        zeros = np.zeros(n_lift + 2)
-        loop_b = [s.layout.g("loop") for s in (s_r, s_l)]
-        lbg = np.r_[b[0].lbg[keep[0]], b[1].lbg[keep[1]], zeros, lo,
-                    b[0].lbg[loop_b[0]], b[1].lbg[loop_b[1]]]  # fmt: skip
-        ubg = np.r_[b[0].ubg[keep[0]], b[1].ubg[keep[1]], zeros, hi,
-                    b[0].ubg[loop_b[0]], b[1].ubg[loop_b[1]]]  # fmt: skip
+        full = build_full_problem(ref)
+        fp, lbz, ubz, lbg, ubg, own = full.problem, full.lbz, full.ubz, full.lbg, full.ubg, full.own
         x_ref = similarity.subject_x(half.x, 1.0 / scale)
         z0 = [mirrored_start(x_ref)]
-        for s in (s_r, s_l):
+        for s in full.steps:
             zs = full_stage_start(s, _z_from_x(s, x_ref))
             zs[:N_X][own] = 0.0
             z0.append(zs)
