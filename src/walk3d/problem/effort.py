@@ -66,15 +66,17 @@ def strengths(body: BodyModel, i: int, theta: Any) -> tuple[Any, Any]:
     return pos * angle_factor(theta, *coef[:2]), neg * angle_factor(theta, *coef[2:])
 
 
+def ratio(body: BodyModel, i: int, moment: Any, value: Any) -> Any:
+    """``u_i = |M_i| / M_max,i(θ_i, direction)`` of DoF ``i`` from its moment (N·m) and its
+    coordinate value ``q_i`` (``θ = 2 asin q``); written ``a|M| + bM`` as C_tor is."""
+    sp, sn = strengths(body, i, 2.0 * mo.asin(value))
+    a, b = 0.5 * (1.0 / sp + 1.0 / sn), 0.5 * (1.0 / sp - 1.0 / sn)
+    return a * mo.fabs(moment) + b * moment
+
+
 def ratios(body: BodyModel, moments: list[Any], values: list[Any]) -> list[Any]:
-    """``u_i = |M_i| / M_max,i(θ_i, direction)`` per DoF, from the DoF moments (N·m) and the
-    coordinate values ``q_i`` (``θ = 2 asin q``); written ``a|M| + bM`` as C_tor is."""
-    out = []
-    for i, m in enumerate(moments):
-        sp, sn = strengths(body, i, 2.0 * mo.asin(values[i]))
-        a, b = 0.5 * (1.0 / sp + 1.0 / sn), 0.5 * (1.0 / sp - 1.0 / sn)
-        out.append(a * mo.fabs(m) + b * m)
-    return out
+    """:func:`ratio` of every DoF, from the DoF moments (N·m) and the coordinate values."""
+    return [ratio(body, i, m, values[i]) for i, m in enumerate(moments)]
 
 
 def integrands(

@@ -126,15 +126,13 @@ def overload(
 ) -> tuple[Any, Any, Any]:
     """The weakened joints' moments over their strengths, per s, split by DoF axis ``(x, y,
     z)``: ``W Σ max(0, u_i − 1)²`` (smoothly), ``u_i = |M_i| / M_max,i(θ_i)`` with the weakened,
-    angle-dependent strength of :func:`walk3d.problem.effort.strengths`, so that a weak muscle
+    angle-dependent strength (:func:`walk3d.problem.effort.ratio`), so that a weak muscle
     cannot hold much more than it can (C_tor, linear in ``u``, only makes its moments dearer).
     Zeros with no weakened joint. ``moments``: the 24 active DoF moments, N·m; ``values``: the
     24 coordinate values; ``axes``: each DoF's axis label."""
     parts = [0.0 * moments[0]] * 3
     for i in weakened_dofs(body, changes):
-        sp, sn = effort.strengths(body, i, 2.0 * mo.asin(values[i]))
-        u = 0.5 * (1 / sp + 1 / sn) * mo.fabs(moments[i]) + 0.5 * (1 / sp - 1 / sn) * moments[i]
-        v = u - 1.0
+        v = effort.ratio(body, i, moments[i], values[i]) - 1.0
         parts[axes[i]] = (
             parts[axes[i]] + OVERLOAD_WEIGHT * (0.5 * (v + mo.sqrt(v * v + OVERLOAD_EPS**2))) ** 2
         )
