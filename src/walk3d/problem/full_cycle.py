@@ -26,6 +26,7 @@ import numpy as np
 from walk3d.problem import layout, terms
 from walk3d.problem.nlp import loop_rows, row_scale
 from walk3d.problem.schedule import lifted
+from walk3d.problem.whatif import KINDS
 
 __all__ = ["FullProblem", "full_jerk_weights", "lifting", "swap_changes", "swapped_side"]
 
@@ -44,14 +45,10 @@ def swapped_side(name: str) -> str:
 def swap_changes(changes):
     """The what-if changes with the sides swapped: step L's body (its right side is the
     physical left)."""
-    return changes.model_copy(
-        update={
-            "strength": tuple((swapped_side(n), f) for n, f in changes.strength),
-            "added_mass": tuple((swapped_side(n), kg) for n, kg in changes.added_mass),
-            "limits": tuple((swapped_side(n), lo, hi) for n, lo, hi in changes.limits),
-            "shank_length": tuple((swapped_side(n), m) for n, m in changes.shank_length),
-        }
-    )
+    return changes.model_copy(update={
+        k: tuple((swapped_side(item[0]), *item[1:]) for item in getattr(changes, k))
+        for k in KINDS
+    })  # fmt: skip
 
 
 def lifting(times: np.ndarray, period: float, mirrored: bool) -> np.ndarray:
