@@ -131,8 +131,8 @@ def apply_changes(
             total += float(kg)
     for name, dm in shank_length:
         for sn in expand(name, SEGMENT_NAMES):
-            i = SEGMENT_NAMES.index(sn)
-            segments[i], joints[i] = _shank(segments[i], joints[i], float(dm))
+            i, k = SEGMENT_NAMES.index(sn), JOINT_NAMES.index(sn.replace("shank", "ankle"))
+            segments[i], joints[k] = _shank(segments[i], joints[k], float(dm))
     return replace(body, joints=tuple(joints), segments=tuple(segments), mass=body.mass + total)
 
 

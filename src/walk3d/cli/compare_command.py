@@ -34,9 +34,8 @@ def compare(
     and ankle angles (deg) and moments (N·m/kg), both sides: each one's range over the cycle
     and the RMS and largest change, sample by sample. With --out, the table of every DoF's
     angle and moment as compare.csv, a figure of both over the cycle as compare.png, and both
-    in report.html. Exit
-    code 2 for a folder that is not a result or two results that do not compare, 3 if --out
-    cannot be written."""
+    in report.html. Exit code 2 for a folder that is not a result or two results that do not
+    compare, 3 if --out cannot be written."""
     from walk3d.io._atomic import atomic_write_text
     from walk3d.io.errors import DataFileError, OutputWriteError
     from walk3d.io.tables import write_csv_table
