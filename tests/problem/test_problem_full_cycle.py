@@ -54,9 +54,11 @@ def test_a_changed_left_series_moves_the_left_side_only():
     np.testing.assert_allclose(m0[:, left], a0[:, left], atol=1e-12)
 
 
-def test_the_unused_entries_are_the_left_midline_and_width():
+def test_the_unused_entries_are_the_left_midline_and_the_step_shift_is_free():
     mask = layout.full_fixed_zero_mask()
-    assert mask.sum() == 4 * layout.N_COEF + 1 and not mask[: layout.N_X].any()
+    assert mask.sum() == 4 * layout.N_COEF and not mask[: layout.N_X].any()
+    assert not mask[layout.I_STEP_SHIFT] and layout.I_STEP_SHIFT == layout.N_X + layout.I_HALF_STEP
+    assert mirrored_start(_half_x(3))[layout.I_STEP_SHIFT] == 0.0
 
 
 def test_step_l_sees_the_sides_swapped():
@@ -79,6 +81,39 @@ def test_the_mirrored_start_is_evaluated_as_the_half_cycle():
     from walk3d.results.evaluate import evaluate_cycle
 
     settings, body, ev = evaluate_atlas()
+    full = evaluate_cycle(body, settings, mirrored_start(_atlas_x()))
+    for key in ("joint_angle", "joint_moment", "grf_force"):
+        np.testing.assert_allclose(full.prediction_arrays[key], ev.prediction_arrays[key],
+                                   atol=1e-9)  # fmt: skip
+    assert full.criteria["C_weighted"]["total"] == pytest.approx(
+        ev.criteria["C_weighted"]["total"], rel=1e-9
+    )
+
+
+def test_the_step_shift_lengthens_the_right_step_and_shortens_the_left():
+    """``d`` moves the feet's anchors: the right step is half a stride plus ``d``, the left one
+    minus ``d``, at the same stride (the motion itself is the mirrored half cycle's). Control:
+    ``d = 0`` gives equal steps."""
+    from verify_support import evaluate_atlas
+
+    from walk3d.results.asymmetry import asymmetry
+    from walk3d.results.evaluate import evaluate_cycle
+
+    settings, body, ev = evaluate_atlas()
+    x = _atlas_x()
+    steps = {}
+    for d in (0.0, 0.03):
+        xf = mirrored_start(x)
+        xf[layout.I_STEP_SHIFT] = d
+        arrays = evaluate_cycle(body, settings, xf).prediction_arrays
+        steps[d] = asymmetry(arrays, body.mass)["step_length_m"]
+    assert abs(steps[0.0]["difference"]) < 0.005
+    assert steps[0.03]["difference"] == pytest.approx(steps[0.0]["difference"] + 0.06, abs=0.005)
+    total = {d: s["right"] + s["left"] for d, s in steps.items()}
+    assert total[0.03] == pytest.approx(total[0.0], abs=1e-6)
+
+
+def _atlas_x() -> np.ndarray:
     import json
 
     from verify_support import SPEED
@@ -88,13 +123,7 @@ def test_the_mirrored_start_is_evaluated_as_the_half_cycle():
     path = Path(atlas_module.__file__).parent / "atlas_data" / "male-natural.json"
     entry = next(e for e in json.loads(path.read_text(encoding="utf-8"))["entries"]
                  if abs(e["speed"] - SPEED) < 1e-9)  # fmt: skip
-    full = evaluate_cycle(body, settings, mirrored_start(np.array(entry["x"])))
-    for key in ("joint_angle", "joint_moment", "grf_force"):
-        np.testing.assert_allclose(full.prediction_arrays[key], ev.prediction_arrays[key],
-                                   atol=1e-9)  # fmt: skip
-    assert full.criteria["C_weighted"]["total"] == pytest.approx(
-        ev.criteria["C_weighted"]["total"], rel=1e-9
-    )
+    return np.array(entry["x"])
 
 
 @pytest.mark.model
@@ -133,6 +162,10 @@ def test_the_composed_derivatives_equal_casadi():
     h_ref = dense(hess(z0, 0.7, lam))
     h_val = dense(d["hess_lag"](z0, [], 0.7, lam))
     np.testing.assert_allclose(h_val, h_ref, rtol=0, atol=1e-10 * np.abs(h_ref).max())
+    # the step shift d enters both steps' rows and couples to their variables (not trivially 0)
+    i_d = layout.I_STEP_SHIFT
+    assert np.abs(dense(j_val)[:, i_d]).max() > 0.1
+    assert np.abs(h_ref[i_d, layout.N_XF :]).max() > 1e-3 * np.abs(h_ref).max()
     plain = build_full_problem(PredictionSettings(**gait)).problem
     h_plain = dense(plain.derivatives["hess_lag"](z0, [], 0.7, lam))
     assert np.abs(h_plain - h_val).max() > 1e-6 * np.abs(h_val).max()

@@ -72,6 +72,9 @@ class NlpPieces:
     :func:`map_blocks`); None builds them here with :func:`node_derivatives`."""
     node0_derivs: NodeDerivs | None = None
     """The same of node 0's function (with the heel-strike rows; compiled), or None."""
+    p: ca.MX | None = None
+    """The NLP's parameter ``p`` that ``params`` and ``g_loop`` may depend on (the derivative
+    functions' second input); None: none (size 0)."""
 
 
 def _node_symbols(node: ca.Function, crit: int):
@@ -156,7 +159,7 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     n = lay.nodes
     z, n_z, n_g = pc.z, pc.z.numel(), pc.g.numel()
     assert (n_z, n_g) == (lay.n_z, lay.n_g), "the NLP does not have the layout's blocks"
-    p = ca.MX.sym("p", 0)
+    p = ca.MX.sym("p", 0) if pc.p is None else pc.p
     lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
     cols = [lay.node_columns(k) for k in range(n)]
     v0 = z[cols[0].tolist()]
@@ -280,10 +283,12 @@ def select_rows(prob: dict, rows: np.ndarray) -> dict:
     x, g = prob["x"], prob["g"]
     n_g = g.numel()
     out = {"x": x, "f": prob["f"], "g": g[rows.tolist()]}
+    if "p" in prob:  # a parameter (a full-cycle step's anchor shift)
+        out["p"] = prob["p"]
     if "derivatives" in prob:
         d = prob["derivatives"]
         x = ca.MX.sym("x", x.sparsity())  # the functions' own input (``prob["x"]`` is a vertcat)
-        p = ca.MX.sym("p", 0)
+        p = ca.MX.sym("p", d["jac_g"].sparsity_in(1))
         lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", rows.size)
         g_rows, jac = d["jac_g"](x, p)
         spread = ca.DM(ca.Sparsity.triplet(n_g, rows.size, rows.tolist(),

@@ -30,7 +30,7 @@ from walk3d.problem.whatif import KINDS
 
 __all__ = ["FullProblem", "full_jerk_weights", "lifting", "swap_changes", "swapped_side"]
 
-N_X, N_XF = layout.N_X, layout.N_XF
+N_X, N_XF, I_D = layout.N_X, layout.N_XF, layout.I_STEP_SHIFT
 
 
 def swapped_side(name: str) -> str:
@@ -72,11 +72,38 @@ def full_jerk_weights(settings) -> np.ndarray | None:
     return w * row_scale(settings.model) * q
 
 
+SHIFT_SIGN = (-1.0, 1.0)
+"""``∂a / ∂d`` of step R and step L: each step NLP's anchor shift ``a`` (its parameter ``p``,
+:func:`walk3d.problem.nlp.build_nlp`) from ``X``'s step shift ``d``
+(:data:`walk3d.problem.layout.I_STEP_SHIFT`). Step R's other foot lands ``d`` short of half a
+stride ahead and stood ``d`` further behind; step L, mirrored, the other way round."""
+
+
+def shift_derivatives(prob: dict) -> dict[str, ca.Function]:
+    """A step NLP's derivatives in its anchor shift ``a`` (``prob["p"]``), by CasADi's AD
+    through the mapped node function: ``jac(z, a) -> ∂g/∂a``, ``grad(z, a) -> ∂f/∂a`` and
+    ``hess(z, a, λ_f, λ_g) -> (∂²L/∂z∂a, ∂²L/∂a²)``, ``L = λ_f f + λ_gᵀ g``."""
+    zs, a = ca.MX.sym("z", prob["x"].numel()), ca.MX.sym("a")
+    f = ca.Function("f", [prob["x"], prob["p"]], [prob["f"]])(zs, a)
+    g = ca.Function("g", [prob["x"], prob["p"]], [prob["g"]])(zs, a)
+    lf, lg = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", g.numel())
+    dg, df = ca.jacobian(g, a), ca.gradient(f, a)
+    la = lf * df + ca.dot(lg, dg)
+    return {
+        "jac": ca.Function("walk3d_step_shift_jac", [zs, a], [dg]),
+        "grad": ca.Function("walk3d_step_shift_grad", [zs, a], [df]),
+        "hess": ca.Function("walk3d_step_shift_hess", [zs, a, lf, lg],
+                            [ca.gradient(la, zs), ca.gradient(la, a)]),
+    }  # fmt: skip
+
+
 class FullProblem:
     """The composed NLP: ``z = [X, z_R, z_L]``, ``g = [g_R, g_L, lifting R, lifting L, widths,
     ranges, loop checks]`` (``rows``: the sizes of g_R, g_L, the linear rows and the loop
-    checks), with its derivative functions. ``loops``: per step, ``(loop function, coordinate
-    map (m, 26, N_XF), anchor_x)`` of its loop checks between the nodes (:func:`loop_rows`)."""
+    checks), with its derivative functions. ``prob_r``, ``prob_l``: the steps' NLPs with their
+    anchor shift as parameter (:data:`SHIFT_SIGN`). ``loops``: per step, ``(loop function,
+    coordinate map (m, 26, N_XF), anchor_x)`` of its loop checks between the nodes
+    (:func:`loop_rows`), the anchor before the shift."""
 
     def __init__(self, prob_r: dict, prob_l: dict, lift_r, lift_l, ranges, quad, y_slice,
                  loops=()):  # fmt: skip
@@ -105,16 +132,23 @@ class FullProblem:
         p = ca.MX.sym("p", 0)
         lam_f = ca.MX.sym("lam_f")
         d_r, d_l = prob_r["derivatives"], prob_l["derivatives"]
-        f_r, grad_r = d_r["grad_f"](z_r, p)
-        f_l, grad_l = d_l["grad_f"](z_l, p)
-        gr, jac_r = d_r["jac_g"](z_r, p)
-        gl, jac_l = d_l["jac_g"](z_l, p)
-        q = ca.DM(np.zeros(N_XF) if quad is None else quad)
+        s_r, s_l = shift_derivatives(prob_r), shift_derivatives(prob_l)
         x = z[:N_XF]
+        a_r, a_l = (sign * x[I_D] for sign in SHIFT_SIGN)
+        f_r, grad_r = d_r["grad_f"](z_r, a_r)
+        f_l, grad_l = d_l["grad_f"](z_l, a_l)
+        gr, jac_r = d_r["jac_g"](z_r, a_r)
+        gl, jac_l = d_l["jac_g"](z_l, a_l)
+        q = ca.DM(np.zeros(N_XF) if quad is None else quad)
+        e_d = ca.DM(ca.Sparsity.triplet(1, N_XF, [0], [I_D]), 1.0)  # the row vector of d
         f = 0.5 * (f_r + f_l) + ca.dot(q, x * x)
-        grad = ca.vertcat(2 * q * x, 0.5 * grad_r, 0.5 * grad_l)
+        steps = tuple(zip(SHIFT_SIGN, (s_r, s_l), (z_r, z_l), (a_r, a_l), strict=True))
+        df = 0.5 * sum(sign * sd["grad"](zs, a) for sign, sd, zs, a in steps)
+        grad = ca.vertcat(2 * q * x + ca.mtimes(e_d.T, df), 0.5 * grad_r, 0.5 * grad_l)
         xs = ca.MX.sym("X", N_XF)
-        g_xs = ca.vertcat(ca.MX(0, 1), *(loop_rows(fn, cmap, xs, ax) for fn, cmap, ax in loops))
+        g_xs = ca.vertcat(ca.MX(0, 1), *(
+            loop_rows(fn, cmap, xs, ax + sign * xs[I_D])
+            for (fn, cmap, ax), sign in zip(loops, SHIFT_SIGN, strict=True)))  # fmt: skip
         n_loop = g_xs.numel()
         lam_s = ca.MX.sym("lam_loop", n_loop)
         loop_fn = ca.Function("walk3d_full_loops", [xs], [g_xs, ca.jacobian(g_xs, xs)])
@@ -127,15 +161,24 @@ class FullProblem:
         h_loop = loop_hess(x, lam_loop)
         g = ca.vertcat(gr, gl, ca.mtimes(lin_dm, z), g_loop)
         jac = ca.vertcat(
-            ca.horzcat(ca.MX(g_r, N_XF), jac_r, ca.MX(g_r, n_l)),
-            ca.horzcat(ca.MX(g_l, N_XF + n_r), jac_l),
+            ca.horzcat(ca.mtimes(-s_r["jac"](z_r, a_r), e_d), jac_r, ca.MX(g_r, n_l)),
+            ca.horzcat(ca.mtimes(s_l["jac"](z_l, a_l), e_d), ca.MX(g_l, n_r), jac_l),
             lin_dm,
             ca.horzcat(j_loop, ca.MX(n_loop, n_r + n_l)),
         )
-        h_r = d_r["hess_lag"](z_r, p, 0.5 * lam_f, lam_g[:g_r])
-        h_l = d_l["hess_lag"](z_l, p, 0.5 * lam_f, lam_g[g_r : g_r + g_l])
+        lam_steps = (lam_g[:g_r], lam_g[g_r : g_r + g_l])
+        h_r = d_r["hess_lag"](z_r, a_r, 0.5 * lam_f, lam_steps[0])
+        h_l = d_l["hess_lag"](z_l, a_l, 0.5 * lam_f, lam_steps[1])
+        h_d = [sd["hess"](zs, a, 0.5 * lam_f, lm)
+               for (_, sd, zs, a), lm in zip(steps, lam_steps, strict=True)]  # fmt: skip
+        # d's row of the upper triangle: its own entry and its products with the steps' z
+        d_row = ca.horzcat(
+            ca.mtimes(h_d[0][1] + h_d[1][1], e_d),
+            *(sign * h[0].T for sign, h in zip(SHIFT_SIGN, h_d, strict=True)),
+        )
         h_x = ca.diag(2 * lam_f * q) + h_loop
-        hess = ca.diagcat(h_x, h_r, h_l)
+        hess = ca.diagcat(h_x, h_r, h_l) + ca.mtimes(ca.DM(ca.Sparsity.triplet(
+            n_z, 1, [I_D], [0]), 1.0), d_row)  # fmt: skip
         self.derivatives = {
             "grad_f": ca.Function("grad_f", [z, p], [f, grad], ["x", "p"], ["f", "grad_f_x"]),
             "jac_g": ca.Function("jac_g", [z, p], [g, jac], ["x", "p"], ["g", "jac_g_x"]),
@@ -143,14 +186,14 @@ class FullProblem:
                                     ["x", "p", "lam_f", "lam_g"], ["triu_hess_gamma_x_x"]),
         }  # fmt: skip
         zz = ca.MX.sym("z", n_z)
-        f_fr = ca.Function("f_r", [prob_r["x"]], [prob_r["f"]])
-        f_fl = ca.Function("f_l", [prob_l["x"]], [prob_l["f"]])
-        g_fr = ca.Function("g_r", [prob_r["x"]], [prob_r["g"]])
-        g_fl = ca.Function("g_l", [prob_l["x"]], [prob_l["g"]])
         xx = zz[:N_XF]
+        parts = [(ca.Function("f", [pb["x"], pb["p"]], [pb["f"]]),
+                  ca.Function("g", [pb["x"], pb["p"]], [pb["g"]]), zs, sign * xx[I_D])
+                 for pb, zs, sign in zip((prob_r, prob_l), (zz[off_r:off_l], zz[off_l:]),
+                                         SHIFT_SIGN, strict=True)]  # fmt: skip
         self.nlp = {
             "x": zz,
-            "f": 0.5 * (f_fr(zz[off_r:off_l]) + f_fl(zz[off_l:])) + ca.dot(q, xx * xx),
-            "g": ca.vertcat(g_fr(zz[off_r:off_l]), g_fl(zz[off_l:]), ca.mtimes(lin_dm, zz),
+            "f": 0.5 * sum(fn(zs, a) for fn, _, zs, a in parts) + ca.dot(q, xx * xx),
+            "g": ca.vertcat(*(gn(zs, a) for _, gn, zs, a in parts), ca.mtimes(lin_dm, zz),
                             loop_fn(xx)[0]),
         }  # fmt: skip

@@ -41,8 +41,10 @@ The full-cycle problem (:mod:`walk3d.problem.full_cycle`, for one-sided changes)
 vector ``X = [x_R, x_L]`` (:data:`N_XF`): every series over the whole cycle, each side with its
 own. ``x_R`` gives the right side, the midline (all harmonics: no symmetry) and the half step
 width; ``x_L`` the left side's sided series (4–14), as the left's own series shifted by half a
-cycle, like the half cycle's left side; its midline series and step width are unused (fixed at
-zero). :func:`full_coordinate_maps` gives the coordinates from ``X``.
+cycle, like the half cycle's left side; its midline series are unused (fixed at zero), and its
+width entry holds the step shift ``d`` (:data:`I_STEP_SHIFT`, m): the right step (right heel
+ahead of the left at right heel strike) is ``V T / 2 + d``, the left one ``V T / 2 − d``.
+:func:`full_coordinate_maps` gives the coordinates from ``X``.
 
 The extra scalar, ``half_step_width``, is the lateral distance of each foot's ankle from the
 line of progression at foot flat. The paper's closed double-support loop needs it (the trailing
@@ -150,11 +152,14 @@ MIRROR_SIGN = (-1.0, -1.0, 1.0, 1.0)
 elements flip, the sagittal ones do not."""
 
 
+I_STEP_SHIFT = N_X + I_HALF_STEP
+"""``X``'s step shift ``d`` (m, module doc): 0 for steps of equal length."""
+
+
 def full_fixed_zero_mask() -> np.ndarray:
-    """Boolean (N_XF,) mask of ``X``'s unused entries: ``x_L``'s midline series and width."""
+    """Boolean (N_XF,) mask of ``X``'s unused entries: ``x_L``'s midline series."""
     mask = np.zeros(N_XF, dtype=bool)
     mask[N_X : N_X + len(MIDLINE) * N_COEF] = True
-    mask[N_X + I_HALF_STEP] = True
     return mask
 
 

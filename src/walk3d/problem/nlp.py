@@ -49,19 +49,9 @@ def _unpack_coords(y, omega: float) -> list[tuple]:
     return [(y[i], omega * y[n + i], omega**2 * y[2 * n + i]) for i in range(n)]
 
 
-def state_at(
-    body: BodyModel,
-    y,
-    w0,
-    hw,
-    decay,
-    anchor_x,
-    omega: float,
-    dynamics: bool = True,
-    balance: bool = True,
-    split_total: bool = False,
-    handover=None,
-) -> GaitState:
+def state_at(body: BodyModel, y, w0, hw, decay, anchor_x, omega: float, dynamics: bool = True,
+             balance: bool = True, split_total: bool = False,
+             handover=None) -> GaitState:  # fmt: skip
     """:func:`evaluate` with the right foot as root (component inputs, any backend).
 
     ``y`` holds values, rates / ω and accelerations / ω² (``ω = 2π/T``), so all 78 entries have
@@ -226,15 +216,15 @@ def loop_function(body: BodyModel, model: ModelSettings) -> ca.Function:
     return ca.Function("walk3d_loop", [c, hw, ax], [ca.vertcat(*rows)])
 
 
-def loop_rows(loop: ca.Function, cmap: np.ndarray, x: ca.MX, anchor_x: float) -> ca.MX:
+def loop_rows(loop: ca.Function, cmap: np.ndarray, x: ca.MX, anchor_x) -> ca.MX:
     """The closed-loop checks of :func:`loop_function` at ``m`` instants between the nodes:
     ``cmap`` (m, 26, n) maps the coefficients ``x`` (n) to their coordinates; the half step
-    width is ``x``'s, the other foot's anchor ``anchor_x``, m."""
+    width is ``x``'s, the other foot's anchor ``anchor_x`` (m; a number or an MX scalar)."""
     m = cmap.shape[0]
     if m == 0:
         return ca.MX(0, 1)
     c = ca.mtimes(ca.sparsify(ca.DM(cmap.reshape(-1, cmap.shape[-1]))), x)
-    hw, ax = x[layout.I_HALF_STEP], ca.DM(np.full((1, m), anchor_x))
+    hw, ax = x[layout.I_HALF_STEP], ca.repmat(ca.MX(anchor_x), 1, m)
     return ca.vec(loop.map(m)(ca.reshape(c, layout.N_COORD, m), hw, ax))
 
 
@@ -348,6 +338,7 @@ def build_nlp(
     functions: dict[str, ca.Function] | None = None,
     node_derivs: NodeDerivs | None = None,
     node0_derivs: NodeDerivs | None = None,
+    shift: bool = False,
 ):
     """Symbolic NLP dict ``{x, f, g}`` (MX calling the per-node SX function), its
     :class:`Schedule` and the lifting maps ``(n_nodes, 78, N_X)``.
@@ -355,12 +346,15 @@ def build_nlp(
     ``g = [lifting (n × 78), node rows (n × N_G), heel-strike wrench (6), joint-range rows,
     loop checks (6 per :func:`loop_check_times`)]``. The node function is called once through
     ``map``, so derivatives are generated once per node function. ``functions``: prebuilt SX
-    functions (:func:`model_functions`, maybe from the cache); missing ones are built here.
-    ``node_derivs``, ``node0_derivs``: ``(jac, grad, hess)`` of the mapped node function and of
-    node 0's, if built elsewhere (compiled; :class:`walk3d.problem.derivatives.NlpPieces`)."""
+    functions (:func:`model_functions`, maybe from the cache); ``node_derivs``,
+    ``node0_derivs``: ``(jac, grad, hess)`` of the mapped node function and of node 0's, if
+    compiled (:class:`walk3d.problem.derivatives.NlpPieces`). ``shift``: a full-cycle step
+    (:mod:`.full_cycle`), with ``prob["p"]`` (m) added to the other foot's anchor throughout."""
     sch = schedule(settings)
     lift = lifting_maps(settings, sch)
+    a = ca.MX.sym("p", int(shift))
     params = ca.DM(node_params(settings, sch))
+    params = params + ca.repmat(ca.vertcat(0, a, ca.MX(4, 1)), 1, sch.n) if shift else params
     nc = node_calls(body, settings, sch.n, params, dynamics, balance, functions)
     x, fk = nc.x, nc.fk
     lift_mat = ca.sparsify(ca.DM(lift.reshape(-1, layout.N_X)))
@@ -377,19 +371,19 @@ def build_nlp(
         f = f + ca.dot(ca.DM(quad), x * x)
     z = ca.vertcat(x, ca.vec(nc.ys), nc.w0, ca.vec(nc.ts))
     range_np = range_rows(body, settings)[0]
-    range_mat = ca.sparsify(ca.DM(range_np))
     t_loop = loop_check_times(settings, sch)
-    loop = (functions or {}).get("loop") or (
-        loop_function(body, settings.model) if t_loop.size else None
-    )
+    loop = (functions or {}).get("loop")
+    loop = loop or (loop_function(body, settings.model) if t_loop.size else None)
     c_map = layout.coordinate_maps(t_loop, settings.gait.period)[0]
-    g_loop = loop_rows(loop, c_map, x, -settings.gait.stride_length / 2)
-    g = ca.vertcat(g_lift, ca.vec(nc.gk), nc.g_hs, ca.mtimes(range_mat, x), g_loop)
-    prob = {"x": z, "f": f, "g": g}
+    g_loop = loop_rows(loop, c_map, x, -settings.gait.stride_length / 2 + (a if shift else 0.0))
+    g = ca.vertcat(g_lift, ca.vec(nc.gk), nc.g_hs, ca.mtimes(ca.sparsify(ca.DM(range_np)), x),
+                   g_loop)  # fmt: skip
+    prob = {"x": z, "f": f, "g": g} | ({"p": a} if shift else {})
     if settings.solver.derivatives == "structured":
         lay = layout.NlpLayout(sch.n, range_np.shape[0], g_loop.numel())
-        pieces = NlpPieces(z=z, f=f, g=g, node0=nc.node0, node=nc.node, params=np.asarray(params),
-                           lift=lift, range_mat=range_np, hs_rows=G_ROWS["hs_wrench"],
+        pieces = NlpPieces(z=z, f=f, g=g, node0=nc.node0, node=nc.node, p=a,
+                           params=params if shift else np.asarray(params), lift=lift,
+                           range_mat=range_np, hs_rows=G_ROWS["hs_wrench"],
                            hs_map=nc.hs_map, weight=weight, crit=crit, layout=lay,
                            g_loop=g_loop, x=x, threads=settings.solver.threads,
                            node_derivs=node_derivs, node0_derivs=node0_derivs,

@@ -51,24 +51,31 @@ def _coords(x: np.ndarray, t: np.ndarray, period: float) -> list[tuple]:
     return [(c0[:, i], c1[:, i], c2[:, i]) for i in range(layout.N_COORD)]
 
 
-def _anchors(settings: PredictionSettings, ph: GaitPhases, t: np.ndarray, root: str, hw: float):
-    """Root and other-foot anchors (x, z) for times in one root block."""
+def _step_shift(x: np.ndarray) -> float:
+    """The full cycle's step shift ``d`` (m; :data:`walk3d.problem.layout.I_STEP_SHIFT`), 0 for
+    a half-cycle vector."""
+    return float(x[layout.I_STEP_SHIFT]) if np.size(x) == layout.N_XF else 0.0
+
+
+def _anchors(settings: PredictionSettings, ph: GaitPhases, t: np.ndarray, root: str, x):
+    """Root and other-foot anchors (x, z) for times in one root block: the right step is half
+    a stride plus ``d`` (:func:`_step_shift`), the left one half a stride minus ``d``."""
+    hw, d = float(x[layout.I_HALF_STEP]), _step_shift(x)
     half = settings.gait.stride_length / 2
     # times run over [0, T] (not wrapped) so that t = T continues the last stance
     p = np.asarray(t, dtype=float)
     if root == "r":
-        return (0.0 * p, hw + 0.0 * p), (-half + 0.0 * p, -hw + 0.0 * p)
-    # left root: its stance started at t_hs_l (anchor +half) or a cycle earlier (-half)
-    ax = np.where(p >= ph.heel_strike_l, half, -half)
-    return (ax, -hw + 0.0 * p), (0.0 * p + np.where(p >= ph.heel_strike_l, 0.0, -2 * half),
-                                 hw + 0.0 * p)  # fmt: skip
+        return (0.0 * p, hw + 0.0 * p), (-half - d + 0.0 * p, -hw + 0.0 * p)
+    # left root: its stance started at t_hs_l (half − d ahead) or a cycle earlier
+    later = p >= ph.heel_strike_l
+    ax = np.where(later, half - d, -half - d)
+    return (ax, -hw + 0.0 * p), (np.where(later, 0.0, -2 * half), hw + 0.0 * p)
 
 
 def _state(body, settings, ph, x, t, root, w0=None, decay=None, handover=True) -> GaitState:
     """The gait at times ``t`` of one root block; with the settings' handover unless
     ``handover`` is False."""
-    hw = float(x[layout.I_HALF_STEP])
-    a_root, a_other = _anchors(settings, ph, t, root, hw)
+    a_root, a_other = _anchors(settings, ph, t, root, x)
     d = ph.trailing_decay(t) if decay is None else decay
     share = ph.handover(t) if handover and settings.model.handover else None
     coords = _coords(x, t, settings.gait.period)
@@ -106,8 +113,7 @@ def _contact_residual(body, st: GaitState, x, t, settings, ph, mask) -> float:
         return 0.0
     other = "l" if st.root == "r" else "r"
     i_other = body.segment_index(f"foot_{other}")
-    hw = float(x[layout.I_HALF_STEP])
-    _, a_other = _anchors(settings, ph, t, st.root, hw)
+    _, a_other = _anchors(settings, ph, t, st.root, x)
     coords = _coords(x, t, settings.gait.period)
     s_other = coords[layout.I_FOOT_L if other == "l" else layout.I_FOOT_R]
     q_exp, p_exp = root_foot_triples(body, other, s_other, a_other)

@@ -42,6 +42,10 @@ __all__ = [
 
 FULL_CYCLE_MAX_ITER = 300
 """Iteration limit of the full-cycle solve (from the mirrored half cycle)."""
+STEP_SHIFT_LIMIT = 0.25
+"""Bound on the step shift ``|d|`` (:data:`walk3d.problem.layout.I_STEP_SHIFT`) as a fraction
+of half a stride: steps within 0.75–1.25 of the mean, beyond the largest step asymmetry that a
+one-sided change here should call for, but never a foot that stays behind the other."""
 N_X = layout.N_X
 
 
@@ -81,6 +85,7 @@ def mirrored_start(x_half: np.ndarray) -> np.ndarray:
     """``X`` of a half-cycle decision vector: both sides' series equal, the midline as it is."""
     xf = np.r_[x_half, x_half]
     xf[layout.full_fixed_zero_mask()] = 0.0
+    xf[layout.I_STEP_SHIFT] = 0.0  # steps of equal length
     return xf
 
 
@@ -106,7 +111,7 @@ def build_full_problem(ref: PredictionSettings) -> FullNlp:
     s_r = build_solver(ref)
     s_l = s_r if ref_l == ref else build_solver(ref_l)
     keep = [_kept_rows(s) for s in (s_r, s_l)]
-    probs = [s.stage_problem("full", k) for s, k in zip((s_r, s_l), keep, strict=True)]
+    probs = [s.stage_problem("step", k) for s, k in zip((s_r, s_l), keep, strict=True)]
     times = s_r.schedule.times
     lifts = [lifting(times, ref.gait.period, m) for m in (False, True)]
     ranges, lo, hi = range_rows(body_for(ref), ref, full=True)
@@ -120,6 +125,8 @@ def build_full_problem(ref: PredictionSettings) -> FullNlp:
     b = [s.nlp_bounds("full") for s in (s_r, s_l)]
     fixed = layout.full_fixed_zero_mask()
     lbz, ubz = [np.where(fixed, 0.0, -np.inf)], [np.where(fixed, 0.0, np.inf)]
+    d_max = STEP_SHIFT_LIMIT * ref.gait.stride_length / 2
+    lbz[0][layout.I_STEP_SHIFT], ubz[0][layout.I_STEP_SHIFT] = -d_max, d_max
     own = np.arange(N_X) != layout.I_HALF_STEP
     for bb in b:  # fixed at zero; the width is tied to X's
         lo_s, hi_s = bb.lbz.copy(), bb.ubz.copy()
@@ -180,5 +187,5 @@ def solve_full_cycle(
         "max_constraint_violation": viol,
     }
     xf = z[: layout.N_XF].copy()
-    xf[layout.I_HALF_STEP] *= scale  # the subject's step width; the series are the same
+    xf[[layout.I_HALF_STEP, layout.I_STEP_SHIFT]] *= scale  # the subject's metres
     return FullCycleOutcome(x=xf, record=record)

@@ -140,18 +140,19 @@ class Solver:
         return Bounds(b.lbz, b.ubz, b.lbg[rows], b.ubg[rows])
 
     def _problem(self, kind: str) -> dict:
-        """The NLP dict of ``kind`` (posture, balance, full) with its derivative functions."""
+        """The NLP dict of ``kind`` (posture, balance, full; ``step``: the full one with its
+        anchor shift, :func:`walk3d.problem.nlp.build_nlp`) with its derivative functions."""
         kind = "full" if kind == "free" else kind
         key = f"nlp:{kind}"
         with self._lock_for(key):
             if key not in self._built:
                 t0 = time.perf_counter()
-                dynamics, balance = nlp.STAGES[kind]
+                shift, kd = (True, "full") if kind == "step" else (False, kind)
                 build = free_nlp.build_free_nlp if self.settings.gait.free else nlp.build_nlp
-                prob, _, _ = build(self.body, self.settings, dynamics=dynamics, balance=balance,
-                                   functions=self.functions,
-                                   node_derivs=self.compiled.get(kind),
-                                   node0_derivs=self.compiled.get(f"{kind}_hs"))  # fmt: skip
+                prob, _, _ = build(self.body, self.settings, *nlp.STAGES[kd],
+                                   functions=self.functions, node_derivs=self.compiled.get(kd),
+                                   node0_derivs=self.compiled.get(f"{kd}_hs"),
+                                   **({"shift": True} if shift else {}))  # fmt: skip
                 self._built[key] = prob
                 self.stage_build_s[key] = time.perf_counter() - t0
             return self._built[key]  # type: ignore[return-value]
