@@ -6,7 +6,8 @@ paper's subject (V 1.3806 m/s, seed 0), in a fresh process with a shared model c
 records, per case, the wall time from process start to exit, convergence, the solve stages
 (iterations and seconds: the half cycle, then the full cycle for a one-sided change), the
 full cycle's time over the half cycle's, ``looks_like_walking``, the body mass, ``C_overload``,
-the right ankle's range (deg) and ``summary.json``'s ``asymmetry``. docs/what-if.md has the
+the right ankle's range (deg), ``summary.json``'s ``asymmetry`` and the full cycle's step
+shift ``d`` (m). docs/what-if.md has the
 figures.
 """
 
@@ -52,6 +53,7 @@ def one_case(out: Path, cache: Path, options: list[str]) -> dict:
     if not (out / "summary.json").is_file():
         return row | {"stderr_tail": proc.stderr[-400:]}
     import walk3d
+    from walk3d.problem import layout
 
     pred = walk3d.load_result(out)
     s = pred.summary
@@ -71,6 +73,8 @@ def one_case(out: Path, cache: Path, options: list[str]) -> dict:
         overload=(s["objective"].get("C_overload") or {}).get("total"),
         right_ankle_range_deg=[round(float(ankle.min()), 2), round(float(ankle.max()), 2)],
         asymmetry=s.get("asymmetry"),
+        step_shift_m=(float(s["coefficients"]["x"][layout.I_STEP_SHIFT])
+                      if s.get("problem") == "full cycle" else None),
     )  # fmt: skip
     return row
 
