@@ -16,6 +16,11 @@ on ``X`` over the whole cycle, and each step's half-cycle vector is fixed at zer
 half step width, which equals ``X``'s; the loop checks between nodes are rows on ``X``. The
 criterion is the mean of the two steps' (each counts its step twice) plus the jerk of
 ``X``'s series, each DoF once.
+
+The stride splits freely between the steps: ``X``'s step shift ``d``
+(:data:`walk3d.problem.layout.I_STEP_SHIFT`) makes the right step ``V T / 2 + d`` and the left
+one ``V T / 2 − d``, by moving each step NLP's other-foot anchor (its parameter,
+:data:`SHIFT_SIGN`). The heel strikes stay half a cycle apart, so the stance times are equal.
 """
 
 from __future__ import annotations
