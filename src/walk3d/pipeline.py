@@ -103,7 +103,8 @@ def summarize(
         "layout": "walk3d.problem.layout: 15 Fourier series x 11 coefficients, then the "
         "half step width (m)"
         + (
-            "; twice, X = [x_R, x_L], on the full cycle"
+            "; twice, X = [x_R, x_L], on the full cycle, x_L's width entry being the step "
+            "shift d (m): right step V T / 2 + d, left V T / 2 - d"
             if np.size(outcome.x) == layout.N_XF
             else ""
         ),

@@ -267,6 +267,14 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     }  # fmt: skip
 
 
+def constraint_function(prob: dict) -> ca.Function:
+    """``walk3d_g(z)``: the rows of the NLP dict ``prob``, its parameter (if any) at zero."""
+    z = ca.MX.sym("z", prob["x"].numel())
+    p = [prob["p"]] if "p" in prob else []
+    g = ca.Function("g", [prob["x"], *p], [prob["g"]])
+    return ca.Function("walk3d_g", [z], [g(z, *(ca.DM.zeros(q.sparsity()) for q in p))])
+
+
 def select_rows(prob: dict, rows: np.ndarray) -> dict:
     """The NLP dict ``prob`` (``x, f, g`` and maybe ``derivatives``) with only the constraint
     rows ``rows`` (indices into ``g``, increasing).

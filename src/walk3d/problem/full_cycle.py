@@ -166,8 +166,12 @@ class FullProblem:
         h_loop = loop_hess(x, lam_loop)
         g = ca.vertcat(gr, gl, ca.mtimes(lin_dm, z), g_loop)
         jac = ca.vertcat(
-            ca.horzcat(ca.mtimes(-s_r["jac"](z_r, a_r), e_d), jac_r, ca.MX(g_r, n_l)),
-            ca.horzcat(ca.mtimes(s_l["jac"](z_l, a_l), e_d), ca.MX(g_l, n_r), jac_l),
+            ca.horzcat(
+                ca.mtimes(SHIFT_SIGN[0] * s_r["jac"](z_r, a_r), e_d), jac_r, ca.MX(g_r, n_l)
+            ),
+            ca.horzcat(
+                ca.mtimes(SHIFT_SIGN[1] * s_l["jac"](z_l, a_l), e_d), ca.MX(g_l, n_r), jac_l
+            ),
             lin_dm,
             ca.horzcat(j_loop, ca.MX(n_loop, n_r + n_l)),
         )

@@ -83,8 +83,11 @@ def reference_problem(settings: PredictionSettings) -> tuple[PredictionSettings,
 
 
 def subject_x(x_ref: np.ndarray, s: float) -> np.ndarray:
-    """The subject's decision vector (``layout``) from the reference subject's solution: the
-    Fourier coefficients are the same, the half step width (m) is ``s`` times larger."""
+    """The subject's decision vector (``layout``; or the full cycle's ``X``) from the reference
+    subject's solution: the Fourier coefficients are the same, the half step width and the
+    full cycle's step shift (m) ``s`` times larger."""
     x = np.array(x_ref, dtype=float, copy=True)
     x[layout.I_HALF_STEP] *= s
+    if x.size == layout.N_XF:
+        x[layout.I_STEP_SHIFT] *= s
     return x

@@ -186,6 +186,4 @@ def solve_full_cycle(
         "objective": float(sol["f"]),
         "max_constraint_violation": viol,
     }
-    xf = z[: layout.N_XF].copy()
-    xf[[layout.I_HALF_STEP, layout.I_STEP_SHIFT]] *= scale  # the subject's metres
-    return FullCycleOutcome(x=xf, record=record)
+    return FullCycleOutcome(x=similarity.subject_x(z[: layout.N_XF], scale), record=record)

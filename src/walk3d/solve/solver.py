@@ -2,9 +2,8 @@
 
 A :class:`Solver` holds the NLP's bounds and lifting maps; its stage solvers (CasADi ``nlpsol``
 with IPOPT, or ``sqpmethod``) are built on first use or in the background
-(:meth:`Solver.prepare`). Solvers are kept in memory per settings (:func:`build_solver`); the
-slow symbolic part of a build, the model's SX functions, is also kept on disk for the next
-process (:mod:`walk3d.solve.model_cache`). docs/solver.md has the measurements.
+(:meth:`Solver.prepare`). Solvers are kept in memory per settings (:func:`build_solver`), the
+model's SX functions on disk too (:mod:`walk3d.solve.model_cache`). docs/solver.md has figures.
 """
 
 from __future__ import annotations
@@ -42,10 +41,9 @@ COMPILED_NODES = {"balance": nlp._node_name(False, True, False),
                   "full": nlp._node_name(True, True, False),
                   "full_hs": nlp._node_name(True, True, True)}  # fmt: skip
 """Node functions whose derivatives can be compiled to C (:func:`compile_solver`), by NLP kind:
-the mapped nodes of the balance and full NLPs, and node 0 of the full NLP (``<kind>_hs``, with
-the heel-strike rows), whose derivatives otherwise take about 2 s of every process's set-up,
-the only stage a start from the atlas runs. The posture NLP's derivatives are small and its
-node 0 is one node of ``nodes``; the balance NLP's node 0 stays in CasADi's VM too."""
+the mapped nodes of the balance and full NLPs, and the full NLP's node 0 (``<kind>_hs``, with
+the heel-strike rows; otherwise about 2 s of every process's set-up). The posture NLP's
+derivatives are small; the balance NLP's node 0 stays in CasADi's VM too."""
 CHUNKS = 8
 """Column blocks per compiled Jacobian or Hessian (:func:`derivatives.derivative_chunks`)."""
 
@@ -207,11 +205,13 @@ class Solver:
 
     @property
     def constraints(self) -> ca.Function:
-        """``g(z)`` of the full stage (used to start it consistently), built once."""
+        """``g(z)`` of the full stage (to start it consistently), built once (from a full-cycle
+        step's NLP at zero shift if only that is built: the same rows)."""
         with self._lock_for("constraints"):
             if "constraints" not in self._built:
-                prob = self._problem("full")
-                self._built["constraints"] = ca.Function("walk3d_g", [prob["x"]], [prob["g"]])
+                step = "nlp:full" not in self._built and "nlp:step" in self._built
+                prob = self._problem("step" if step else "full")
+                self._built["constraints"] = derivatives.constraint_function(prob)
             return self._built["constraints"]  # type: ignore[return-value]
 
 
