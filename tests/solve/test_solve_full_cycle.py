@@ -65,3 +65,5 @@ def test_a_shorter_right_leg_tilts_the_pelvis_and_splits_the_stride_unequally():
     # steps differ
     assert stance_mean("hip_adduction", "l") > stance_mean("hip_adduction", "r") + 3.0
     assert abs(short.summary["asymmetry"]["step_length_m"]["difference"]) > 0.02
+    # the evaluated feet sit where the NLP put them (a sign error in d would leave 2 d)
+    assert short.summary["double_support_contact_residual_m"] < 0.003
