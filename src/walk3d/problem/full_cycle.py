@@ -21,6 +21,10 @@ The stride splits freely between the steps: ``X``'s step shift ``d``
 (:data:`walk3d.problem.layout.I_STEP_SHIFT`) makes the right step ``V T / 2 + d`` and the left
 one ``V T / 2 − d``, by moving each step NLP's other-foot anchor (its parameter,
 :data:`SHIFT_SIGN`). The heel strikes stay half a cycle apart, so the stance times are equal.
+Unequal steps cost: the criterion is multiplied by ``1 + k SLA²``, SLA = ``d / (V T / 2)``
+(:data:`walk3d.problem.whatif.STEP_ASYMMETRY_COST`; ``kappa = k / (V T / 2)²``), as measured
+metabolic cost grows with step-length asymmetry; without it the criterion prefers a limp
+(docs/what-if.md).
 """
 
 from __future__ import annotations
@@ -111,7 +115,7 @@ class FullProblem:
     (:func:`loop_rows`), the anchor before the shift."""
 
     def __init__(self, prob_r: dict, prob_l: dict, lift_r, lift_l, ranges, quad, y_slice,
-                 loops=()):  # fmt: skip
+                 loops=(), kappa: float = 0.0):  # fmt: skip
         n_r, n_l = prob_r["x"].numel(), prob_l["x"].numel()
         g_r, g_l = prob_r["g"].numel(), prob_l["g"].numel()
         n_z = N_XF + n_r + n_l
@@ -146,10 +150,14 @@ class FullProblem:
         gl, jac_l = d_l["jac_g"](z_l, a_l)
         q = ca.DM(np.zeros(N_XF) if quad is None else quad)
         e_d = ca.DM(ca.Sparsity.triplet(1, N_XF, [0], [I_D]), 1.0)  # the row vector of d
-        f = 0.5 * (f_r + f_l) + ca.dot(q, x * x)
+        c = 0.5 * (f_r + f_l) + ca.dot(q, x * x)
         steps = tuple(zip(SHIFT_SIGN, (s_r, s_l), (z_r, z_l), (a_r, a_l), strict=True))
         df = 0.5 * sum(sign * sd["grad"](zs, a) for sign, sd, zs, a in steps)
-        grad = ca.vertcat(2 * q * x + ca.mtimes(e_d.T, df), 0.5 * grad_r, 0.5 * grad_l)
+        grad_c = ca.vertcat(2 * q * x + ca.mtimes(e_d.T, df), 0.5 * grad_r, 0.5 * grad_l)
+        m = 1 + kappa * x[I_D] ** 2  # the step asymmetry's factor (module doc)
+        f = m * c
+        grad = m * grad_c + ca.mtimes(ca.DM(ca.Sparsity.triplet(n_z, 1, [I_D], [0]), 1.0),
+                                      2 * kappa * x[I_D] * c)  # fmt: skip
         xs = ca.MX.sym("X", N_XF)
         g_xs = ca.vertcat(ca.MX(0, 1), *(
             loop_rows(fn, cmap, xs, ax + sign * xs[I_D])
@@ -176,18 +184,23 @@ class FullProblem:
             ca.horzcat(j_loop, ca.MX(n_loop, n_r + n_l)),
         )
         lam_steps = (lam_g[:g_r], lam_g[g_r : g_r + g_l])
-        h_r = d_r["hess_lag"](z_r, a_r, 0.5 * lam_f, lam_steps[0])
-        h_l = d_l["hess_lag"](z_l, a_l, 0.5 * lam_f, lam_steps[1])
-        h_d = [sd["hess"](zs, a, 0.5 * lam_f, lm)
+        lam_c = lam_f * m  # the multiplier of c's own curvature
+        h_r = d_r["hess_lag"](z_r, a_r, 0.5 * lam_c, lam_steps[0])
+        h_l = d_l["hess_lag"](z_l, a_l, 0.5 * lam_c, lam_steps[1])
+        h_d = [sd["hess"](zs, a, 0.5 * lam_c, lm)
                for (_, sd, zs, a), lm in zip(steps, lam_steps, strict=True)]  # fmt: skip
-        # d's row of the upper triangle: its own entry and its products with the steps' z
+        # d's row of the upper triangle: its own entry and its products with the steps' z;
+        # with the factor m also λ_f (∇m ∇cᵀ + ∇c ∇mᵀ + c ∇²m), all in d's row and column
+        u = 2 * kappa * lam_f * x[I_D] * grad_c
         d_row = ca.horzcat(
-            ca.mtimes(h_d[0][1] + h_d[1][1], e_d),
+            ca.mtimes(h_d[0][1] + h_d[1][1] + 2 * u[I_D] + 2 * kappa * lam_f * c, e_d),
             *(sign * h[0].T for sign, h in zip(SHIFT_SIGN, h_d, strict=True)),
-        )
-        h_x = ca.diag(2 * lam_f * q) + h_loop
-        hess = ca.diagcat(h_x, h_r, h_l) + ca.mtimes(ca.DM(ca.Sparsity.triplet(
-            n_z, 1, [I_D], [0]), 1.0), d_row)  # fmt: skip
+        ) + ca.horzcat(ca.MX(1, I_D + 1), u[I_D + 1 :].T)
+        d_col = ca.vertcat(u[:I_D], ca.MX(n_z - I_D, 1))  # rows above d (X's coefficients)
+        h_x = ca.diag(2 * lam_c * q) + h_loop
+        e_col = ca.DM(ca.Sparsity.triplet(n_z, 1, [I_D], [0]), 1.0)
+        hess = (ca.diagcat(h_x, h_r, h_l) + ca.mtimes(e_col, d_row)
+                + ca.mtimes(d_col, e_col.T))  # fmt: skip
         self.derivatives = {
             "grad_f": ca.Function("grad_f", [z, p], [f, grad], ["x", "p"], ["f", "grad_f_x"]),
             "jac_g": ca.Function("jac_g", [z, p], [g, jac], ["x", "p"], ["g", "jac_g_x"]),
@@ -202,7 +215,8 @@ class FullProblem:
                                          SHIFT_SIGN, strict=True)]  # fmt: skip
         self.nlp = {
             "x": zz,
-            "f": 0.5 * sum(fn(zs, a) for fn, _, zs, a in parts) + ca.dot(q, xx * xx),
+            "f": (1 + kappa * xx[I_D] ** 2)
+            * (0.5 * sum(fn(zs, a) for fn, _, zs, a in parts) + ca.dot(q, xx * xx)),
             "g": ca.vertcat(*(gn(zs, a) for _, gn, zs, a in parts), ca.mtimes(lin_dm, zz),
                             loop_fn(xx)[0]),
         }  # fmt: skip

@@ -102,6 +102,12 @@ def heel_rise(model: Any) -> float | None:
     return BRACE_HEEL_RISE if braced else None
 
 
+STEP_ASYMMETRY_COST = 4.0
+"""``k`` of the full cycle's criterion factor ``1 + k SLA²``, SLA = (right step − left step) /
+stride: measured metabolic cost rises about 24 % as split-belt walkers go from SLA −0.25 to 0
+(Finley, Bastian & Gottschall 2013, J Physiol 591:1081: k ≈ 4), and a step-to-step
+transition cost growing with step length⁴ (Donelan, Kram & Kuo 2002) gives k = 3–6."""
+
 OVERLOAD_WEIGHT = 10.0
 """Weight, per s, of :func:`overload`'s squared excess: a moment 10 % over a weakened joint's
 strength all through the cycle costs 0.1, about 1 % of a normal gait's criterion, one 100 %

@@ -213,6 +213,9 @@ def evaluate_cycle(
             crit[name][f"C_{term}"] = split_by_axis(np.sum(v[periodic], axis=0) * dt, [0, 1, 2])
         jerk = (terms.jerk_per_dof_full if np.size(x) == layout.N_XF else terms.jerk_per_dof)(x, T)
         crit[name]["C_jerk"] = split_by_axis(jerk, axes)
+        if np.size(x) == layout.N_XF:  # the full cycle's unequal steps (SLA², dimensionless)
+            sla = _step_shift(x) / (settings.gait.stride_length / 2)
+            crit[name]["C_step_asymmetry"] = {"total": sla * sla}
         crit[name]["C_weighted"] = weighted_total(settings.model.criterion, crit[name])
     coord_angles = np.column_stack([2 * np.arcsin(np.clip(c[0], -1, 1)) for c in coords[:24]])
     violations = summarize_violations(
@@ -254,6 +257,9 @@ def weighted_total(criterion: str, values: dict) -> dict:
     parts = {k: w * values[f"C_{k}"]["total"] for k, w in weights.items()}
     if "C_overload" in values:  # weakened joints' moments over their strengths (what-if)
         parts["overload"] = values["C_overload"]["total"]
+    if "C_step_asymmetry" in values:  # the full cycle's factor 1 + k SLA² (what-if)
+        k_sla2 = whatif.STEP_ASYMMETRY_COST * values["C_step_asymmetry"]["total"]
+        parts["step_asymmetry"] = k_sla2 * float(sum(parts.values()))
     return {"total": float(sum(parts.values())), "weights": weights, "parts": parts}
 
 

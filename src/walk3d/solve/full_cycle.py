@@ -25,6 +25,7 @@ from walk3d.problem.full_cycle import (
 from walk3d.problem.layout import full_coordinate_maps
 from walk3d.problem.schedule import loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings, body_for
+from walk3d.problem.whatif import STEP_ASYMMETRY_COST
 from walk3d.solve.ipopt import SolveOutcome, _z_from_x, full_stage_start
 from walk3d.solve.options import ipopt_options
 from walk3d.solve.plan import SUCCESS
@@ -119,8 +120,9 @@ def build_full_problem(ref: PredictionSettings) -> FullNlp:
     anchor = -ref.gait.stride_length / 2
     loops = [(s.functions["loop"], full_coordinate_maps(t_loop, ref.gait.period, m)[0], anchor)
              for s, m in ((s_r, False), (s_l, True))]  # fmt: skip
+    half = ref.gait.stride_length / 2  # SLA = d / half
     fp = FullProblem(probs[0], probs[1], lifts[0], lifts[1], ranges, full_jerk_weights(ref),
-                     s_r.layout.z("y"), loops)  # fmt: skip
+                     s_r.layout.z("y"), loops, STEP_ASYMMETRY_COST / half**2)  # fmt: skip
     n_lift = sum(lf.shape[0] * lf.shape[1] for lf in lifts)
     b = [s.nlp_bounds("full") for s in (s_r, s_l)]
     fixed = layout.full_fixed_zero_mask()
