@@ -13,6 +13,7 @@ from walk3d.body.model import build_body
 from walk3d.problem import layout
 from walk3d.problem.full_cycle import swap_changes, swapped_side
 from walk3d.problem.settings import PredictionSettings
+from walk3d.problem.whatif import STEP_ASYMMETRY_COST
 from walk3d.solve.full_cycle import mirrored_start
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verify"))
@@ -101,16 +102,37 @@ def test_the_step_shift_lengthens_the_right_step_and_shortens_the_left():
 
     settings, body, ev = evaluate_atlas()
     x = _atlas_x()
-    steps = {}
+    steps, crit = {}, {}
     for d in (0.0, 0.03):
         xf = mirrored_start(x)
         xf[layout.I_STEP_SHIFT] = d
-        arrays = evaluate_cycle(body, settings, xf).prediction_arrays
-        steps[d] = asymmetry(arrays, body.mass)["step_length_m"]
+        evf = evaluate_cycle(body, settings, xf)
+        steps[d] = asymmetry(evf.prediction_arrays, body.mass)["step_length_m"]
+        crit[d] = evf.criteria
     assert abs(steps[0.0]["difference"]) < 0.005
     assert steps[0.03]["difference"] == pytest.approx(steps[0.0]["difference"] + 0.06, abs=0.005)
     total = {d: s["right"] + s["left"] for d, s in steps.items()}
     assert total[0.03] == pytest.approx(total[0.0], abs=1e-6)
+    # the criterion's factor 1 + k SLA², SLA = d / half a stride (0 for equal steps)
+    sla = 0.03 / (settings.gait.stride_length / 2)
+    assert crit[0.0]["C_step_asymmetry"]["total"] == 0.0
+    assert crit[0.0]["C_weighted"]["parts"]["step_asymmetry"] == 0.0
+    assert crit[0.03]["C_step_asymmetry"]["total"] == pytest.approx(sla**2, rel=1e-12)
+    w = crit[0.03]["C_weighted"]
+    rest = w["total"] - w["parts"]["step_asymmetry"]
+    assert w["total"] == pytest.approx(rest * (1 + STEP_ASYMMETRY_COST * sla**2), rel=1e-12)
+    assert w["parts"]["step_asymmetry"] > 1e-3 * rest
+
+
+def test_the_step_asymmetry_part_scales_the_other_parts():
+    from walk3d.results.evaluate import weighted_total
+
+    values = {"C_tor": {"total": 2.0}, "C_jerk": {"total": 1.0}}
+    plain = weighted_total("tor=1,jerk=0.5", values)
+    assert plain["total"] == pytest.approx(2.5) and "step_asymmetry" not in plain["parts"]
+    asym = weighted_total("tor=1,jerk=0.5", values | {"C_step_asymmetry": {"total": 0.01}})
+    assert asym["parts"]["step_asymmetry"] == pytest.approx(2.5 * STEP_ASYMMETRY_COST * 0.01)
+    assert asym["total"] == pytest.approx(2.5 * (1 + STEP_ASYMMETRY_COST * 0.01))
 
 
 def _atlas_x() -> np.ndarray:

@@ -104,9 +104,9 @@ def heel_rise(model: Any) -> float | None:
 
 STEP_ASYMMETRY_COST = 4.0
 """``k`` of the full cycle's criterion factor ``1 + k SLA²``, SLA = (right step − left step) /
-stride: measured metabolic cost rises about 24 % as split-belt walkers go from SLA −0.25 to 0
-(Finley, Bastian & Gottschall 2013, J Physiol 591:1081: k ≈ 4), and a step-to-step
-transition cost growing with step length⁴ (Donelan, Kram & Kuo 2002) gives k = 3–6."""
+stride: a step-to-step transition cost growing with step length⁴ (Donelan, Kram & Kuo 2002)
+gives k = 3–6, and split-belt walkers' metabolic power about k = 4 (Finley et al. 2013;
+docs/criteria.md)."""
 
 OVERLOAD_WEIGHT = 10.0
 """Weight, per s, of :func:`overload`'s squared excess: a moment 10 % over a weakened joint's
