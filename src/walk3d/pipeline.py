@@ -182,7 +182,8 @@ def predict(
         def first(given: PredictionSettings):
             return run_solver(given, seed, solver, on_stage=on_stage)
     else:
-        x_ref = similarity.subject_x(warm_from, 1.0 / similarity.length_scale(settings))
+        x_ref = similarity.subject_x(layout.half_cycle_x(warm_from),
+                                     1.0 / similarity.length_scale(settings))  # fmt: skip
 
         def first(given: PredictionSettings):
             return solve_warm(given, x_ref, solver, on_stage=on_stage)

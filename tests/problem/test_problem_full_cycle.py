@@ -55,6 +55,19 @@ def test_a_changed_left_series_moves_the_left_side_only():
     np.testing.assert_allclose(m0[:, left], a0[:, left], atol=1e-12)
 
 
+def test_a_full_cycle_warm_start_gives_its_half_cycle_vector_back():
+    """A sweep warm-starts the half cycle from the previous result's ``X`` (full cycle)."""
+    x = _half_x(4)
+    np.testing.assert_array_equal(layout.half_cycle_x(mirrored_start(x)), x)
+    np.testing.assert_array_equal(layout.half_cycle_x(x), x)
+    xf = mirrored_start(x)
+    xf[layout.N_X :] += 0.1  # the left side does not enter; the midline's fixed zeros return
+    xf[0] = 0.3
+    out = layout.half_cycle_x(xf)
+    assert out.shape == (layout.N_X,) and not out[layout.fixed_zero_mask()].any()
+    assert out[0] == (0.3 if not layout.fixed_zero_mask()[0] else 0.0)
+
+
 def test_the_unused_entries_are_the_left_midline_and_the_step_shift_is_free():
     mask = layout.full_fixed_zero_mask()
     assert mask.sum() == 4 * layout.N_COEF and not mask[: layout.N_X].any()

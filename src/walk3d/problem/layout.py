@@ -156,6 +156,15 @@ I_STEP_SHIFT = N_X + I_HALF_STEP
 """``X``'s step shift ``d`` (m, module doc): 0 for steps of equal length."""
 
 
+def half_cycle_x(x: np.ndarray) -> np.ndarray:
+    """A half-cycle decision vector from ``x`` or a full cycle's ``X`` (a warm start): ``X``'s
+    right side, midline and width, with the half cycle's fixed zeros (the inverse of
+    :func:`walk3d.solve.full_cycle.mirrored_start` on a symmetric ``X``)."""
+    out = np.array(x, dtype=float)[:N_X].copy()
+    out[fixed_zero_mask()] = 0.0
+    return out
+
+
 def full_fixed_zero_mask() -> np.ndarray:
     """Boolean (N_XF,) mask of ``X``'s unused entries: ``x_L``'s midline series."""
     mask = np.zeros(N_XF, dtype=bool)
