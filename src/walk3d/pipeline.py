@@ -189,7 +189,8 @@ def predict(
             return solve_warm(given, x_ref, solver, on_stage=on_stage)
 
     full = settings.model.full_cycle or settings.model.changes.one_sided
-    half = (settings.replace(full_cycle=False, changes=settings.model.changes.half_cycle())
+    half = (settings.replace(full_cycle=False, equal_steps=False,
+                             changes=settings.model.changes.half_cycle())
             if full else settings)  # fmt: skip
     outcome = solve_with_landing(half, first, solver, on_stage,
                                  seed if warm_from is None else None)  # fmt: skip

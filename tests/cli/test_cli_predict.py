@@ -214,3 +214,14 @@ def test_campaign_and_sweep_refuse_bad_what_if_changes(tmp_path, command, option
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and words in lines[0], r.stderr
     assert not out.exists()
+
+
+def test_the_equal_steps_flag_reaches_the_settings():
+    """``--equal-steps`` sets ``equal_steps``; without it the key is left out (the default)."""
+    from walk3d.cli.changes import changes_option
+    from walk3d.problem.settings import PredictionSettings
+
+    assert changes_option(None, None, None, equal_steps=True) == {"equal_steps": True}
+    assert changes_option(None, None, None) == {}
+    s = PredictionSettings(**changes_option(None, None, "torso=2", equal_steps=True))
+    assert s.model.equal_steps and s.model.changes.added_mass == (("torso", 2.0),)

@@ -190,13 +190,16 @@ def test_passive_off_leaves_the_node_function_and_the_keys_as_they_were(monkeypa
     # the cache and atlas keys are those of the settings without the field
     s = PredictionSettings()
     dumped = s.model.model_dump()
-    opt_in = {"passive", "passive_total", "heel_rise", "load_ramp", "changes", "full_cycle"}
+    opt_in = {"passive", "passive_total", "heel_rise", "load_ramp", "changes", "full_cycle",
+              "equal_steps"}  # fmt: skip
     for name in opt_in:
         del dumped[name]
     from walk3d.solve import model_cache
 
     assert solver._model_key(body, s.model) == model_cache.model_key(dumped, body)
     assert not opt_in & set(atlas.settings_key(s)["model"])
+    equal = PredictionSettings(equal_steps=True)  # the full cycle's bounds only
+    assert solver._model_key(body, equal.model) == solver._model_key(body, s.model)
     # control: a what-if change is in the atlas key (its body is in the model key)
     braced = PredictionSettings(changes={"strength": {"ankle": 0.5}})
     assert "changes" in atlas.settings_key(braced)["model"]

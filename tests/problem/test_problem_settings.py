@@ -38,6 +38,7 @@ ADDED_SINCE = [
     "descriptors_from",
     "changes",
     "full_cycle",
+    "equal_steps",
 ]
 """Fields added later (issues #23, #24, #25, #26, #41, #42, #43), with defaults, so older files
 still load."""

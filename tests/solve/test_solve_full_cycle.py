@@ -67,3 +67,7 @@ def test_a_shorter_right_leg_tilts_the_pelvis_and_splits_the_stride_unequally():
     assert abs(short.summary["asymmetry"]["step_length_m"]["difference"]) > 0.02
     # the evaluated feet sit where the NLP put them (a sign error in d would leave 2 d)
     assert short.summary["double_support_contact_residual_m"] < 0.003
+    held = walk3d.predict(**PAPER, changes={"shank_length": {"shank_r": -0.02}},
+                          equal_steps=True)  # fmt: skip
+    assert held.converged and held.summary["settings"]["model"]["equal_steps"]
+    assert abs(held.summary["asymmetry"]["step_length_m"]["difference"]) < 0.002

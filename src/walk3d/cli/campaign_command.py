@@ -7,7 +7,15 @@ from typing import Annotated
 
 import typer
 
-from walk3d.cli.changes import AddedMass, FullCycle, LegLength, Range, Strength, changes_option
+from walk3d.cli.changes import (
+    AddedMass,
+    EqualSteps,
+    FullCycle,
+    LegLength,
+    Range,
+    Strength,
+    changes_option,
+)
 from walk3d.cli.commands import _calibration_fields
 from walk3d.cli.common import (
     EXIT_WRITE,
@@ -90,6 +98,7 @@ def campaign(
     added_mass: AddedMass = None,
     leg_length: LegLength = None,
     full_cycle: FullCycle = False,
+    equal_steps: EqualSteps = False,
 ) -> None:
     """Run N random starts in parallel (Dask) and rank them. Each finished start is stored
     at once in DIR/starts/seed_<seed>/ (a walk3d predict folder plus record.json); rerunning
@@ -118,7 +127,7 @@ def campaign(
         mass=case["mass"], height=case["height"], sex=case["sex"], nodes=nodes, max_iter=max_iter,
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library, handover=handover, **_calibration_fields(calibration),
-        **changes_option(strength, limits, added_mass, full_cycle, leg_length),
+        **changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
     )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign
     from walk3d.campaign.ranking import top_table

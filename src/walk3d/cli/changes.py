@@ -48,6 +48,14 @@ FullCycle = Annotated[
 ]  # fmt: skip
 
 
+EqualSteps = Annotated[
+    bool,
+    typer.Option("--equal-steps", rich_help_panel=CHANGES,
+                 help="Hold the full cycle's right and left steps equal in length (by default "
+                 "the stride splits freely, at a cost; docs/what-if.md)."),
+]  # fmt: skip
+
+
 def _items(text: str, option: str) -> list[tuple[str, str]]:
     out = []
     for part in text.split(","):
@@ -74,8 +82,10 @@ def changes_option(
     added_mass: str | None,
     full_cycle: bool = False,
     leg_length: float | None = None,
+    equal_steps: bool = False,
 ) -> dict:
-    """``{"changes": {...}, "full_cycle": True}`` for the settings from the options (each only
+    """``{"changes": {...}, "full_cycle": True, "equal_steps": True}`` for the settings from the
+    options (each only
     when given), or one error line and exit 2 for one that does not parse (names and values are
     checked by the settings)."""
     changes: dict[str, list] = {}
@@ -96,4 +106,5 @@ def changes_option(
             lo_deg, hi_deg = _number(lo, "--range", n), _number(hi, "--range", n)
             rows.append((n, math.radians(lo_deg), math.radians(hi_deg)))
         changes["limits"] = rows
-    return ({"changes": changes} if changes else {}) | ({"full_cycle": True} if full_cycle else {})
+    flags = {"full_cycle": full_cycle, "equal_steps": equal_steps}
+    return ({"changes": changes} if changes else {}) | {k: True for k, v in flags.items() if v}

@@ -10,7 +10,15 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from walk3d.cli.changes import AddedMass, FullCycle, LegLength, Range, Strength, changes_option
+from walk3d.cli.changes import (
+    AddedMass,
+    EqualSteps,
+    FullCycle,
+    LegLength,
+    Range,
+    Strength,
+    changes_option,
+)
 from walk3d.cli.common import (
     EXIT_WRITE,
     SOLVER,
@@ -186,6 +194,7 @@ def predict(
     added_mass: AddedMass = None,
     leg_length: LegLength = None,
     full_cycle: FullCycle = False,
+    equal_steps: EqualSteps = False,
 ) -> None:
     """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot,
     summary.png (and animation.mp4 with --animate) and, last, report.html. Exit code 0 if the
@@ -219,7 +228,7 @@ def predict(
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library, handover=handover, descriptors_from=descriptors_from,
         **_calibration_fields(calibration),
-        **changes_option(strength, limits, added_mass, full_cycle, leg_length),
+        **changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
     )  # fmt: skip
     from walk3d.io.errors import OutputWriteError
     from walk3d.pipeline import predict as run

@@ -6,7 +6,15 @@ from typing import Annotated
 
 import typer
 
-from walk3d.cli.changes import AddedMass, FullCycle, LegLength, Range, Strength, changes_option
+from walk3d.cli.changes import (
+    AddedMass,
+    EqualSteps,
+    FullCycle,
+    LegLength,
+    Range,
+    Strength,
+    changes_option,
+)
 from walk3d.cli.common import (
     EXIT_WRITE,
     SOLVER,
@@ -46,6 +54,7 @@ def sweep(
     added_mass: AddedMass = None,
     leg_length: LegLength = None,
     full_cycle: FullCycle = False,
+    equal_steps: EqualSteps = False,
 ) -> None:
     """Predict one gait cycle at each speed with T and Td predicted, each started from its
     solved neighbour, and write DIR/sweep.csv (T, Td, stride length, cadence, criterion, gait
@@ -68,7 +77,7 @@ def sweep(
         criterion, "ipopt", seed, speed=float(values[0]), period=t, double_support=td,
         free=("period", "double_support"), mass=mass, height=height, sex=sex, nodes=nodes,
         threads=min(available_cores(), 64), restarts=restarts, max_iter=max_iter,
-        **changes_option(strength, limits, added_mass, full_cycle, leg_length),
+        **changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
     )  # fmt: skip
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 

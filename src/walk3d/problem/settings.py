@@ -153,6 +153,8 @@ class ModelSettings(_Group):
     full_cycle: bool = False
     """Solve the full cycle, each side with its own series (:mod:`walk3d.problem.full_cycle`),
     after the half cycle. Off: the paper's half cycle, unless a change is one-sided."""
+    equal_steps: bool = False
+    """Hold the full cycle's steps equal in length (off: the stride splits freely; what-if.md)."""
 
     @field_validator("criterion")
     @classmethod
@@ -296,7 +298,8 @@ class SolverSettings(_Group):
 
 
 OPT_IN: dict[str, Any] = {"passive": False, "passive_total": False, "heel_rise": None,
-                          "load_ramp": None, "changes": Changes(), "full_cycle": False}  # fmt: skip
+                          "load_ramp": None, "changes": Changes(), "full_cycle": False,
+                          "equal_steps": False}  # fmt: skip
 """Model settings whose value here leaves them out of the model-cache and atlas keys: the
 problem of a walk3d before they existed."""
 GROUPS: dict[str, type[_Group]] = {

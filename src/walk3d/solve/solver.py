@@ -220,7 +220,7 @@ def _model_key(body: BodyModel, model: ModelSettings) -> str:
     :func:`walk3d.problem.nlp.model_functions` receives. The gait descriptors reach the node
     functions as node parameters, so one entry serves every V, T and Td of a body."""
     fields = model.model_dump()
-    for name in ("heel_rise", "load_ramp", "changes", "full_cycle"):  # bounds, parameters, body
+    for name in ("heel_rise", "load_ramp", "changes", "full_cycle", "equal_steps"):  # not here
         del fields[name]
     for name in ("passive", "passive_total"):  # off: the key before the setting existed
         if not fields[name]:
