@@ -10,15 +10,8 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from walk3d.cli.changes import (
-    AddedMass,
-    EqualSteps,
-    FullCycle,
-    LegLength,
-    Range,
-    Strength,
-    changes_option,
-)
+from walk3d.cli import changes as what_if
+from walk3d.cli.changes import AddedMass, EqualSteps, FullCycle, LegLength, Range, Strength
 from walk3d.cli.common import (
     EXIT_WRITE,
     SOLVER,
@@ -228,7 +221,7 @@ def predict(
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library, handover=handover, descriptors_from=descriptors_from,
         **_calibration_fields(calibration),
-        **changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
+        **what_if.changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
     )  # fmt: skip
     from walk3d.io.errors import OutputWriteError
     from walk3d.pipeline import predict as run

@@ -6,15 +6,8 @@ from typing import Annotated
 
 import typer
 
-from walk3d.cli.changes import (
-    AddedMass,
-    EqualSteps,
-    FullCycle,
-    LegLength,
-    Range,
-    Strength,
-    changes_option,
-)
+from walk3d.cli import changes as what_if
+from walk3d.cli.changes import AddedMass, EqualSteps, FullCycle, LegLength, Range, Strength
 from walk3d.cli.common import (
     EXIT_WRITE,
     SOLVER,
@@ -77,7 +70,7 @@ def sweep(
         criterion, "ipopt", seed, speed=float(values[0]), period=t, double_support=td,
         free=("period", "double_support"), mass=mass, height=height, sex=sex, nodes=nodes,
         threads=min(available_cores(), 64), restarts=restarts, max_iter=max_iter,
-        **changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
+        **what_if.changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
     )  # fmt: skip
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
