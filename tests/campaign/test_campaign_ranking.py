@@ -289,3 +289,16 @@ def test_a_listening_scheduler_address_passes_the_check():
         check_scheduler(f"tcp://127.0.0.1:{server.getsockname()[1]}", timeout_s=2.0)
     with pytest.raises(ValueError, match="no Dask scheduler answers"):
         check_scheduler("tcp://127.0.0.1:1", timeout_s=2.0)
+
+
+def test_starts_are_ranked_by_the_minimized_value_with_its_what_if_parts():
+    """A one-sided change's full cycle minimizes ``C_weighted`` (its weights times the step
+    asymmetry's factor, plus any overload) even under a plain criterion: the ranking reads that.
+    Control: without ``C_weighted`` (an older summary) the criterion's own value."""
+    from walk3d.problem import terms
+
+    weighted = {"total": 3.3, "weights": {"tor": 1.0}, "parts": {"tor": 3.2, "overload": 0.1}}
+    objective = {"C_tor": {"total": 3.2}, "C_weighted": weighted}
+    assert terms.minimized(objective, "tor") == 3.3
+    assert terms.minimized({"C_tor": {"total": 3.2}}, "tor") == 3.2
+    assert terms.minimized({}, "tor") is None

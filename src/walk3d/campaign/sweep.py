@@ -165,7 +165,7 @@ def _warm(settings, prev: dict, v: float, seed: int, solver: str, note, depth: i
 
 def _criterion(summary: dict, criterion: str) -> float | None:
     """The minimized criterion over the cycle, or None."""
-    return (summary.get("objective") or {}).get(terms.label(criterion), {}).get("total")
+    return terms.minimized(summary.get("objective") or {}, criterion)
 
 
 def per_metre(summary: dict, criterion: str) -> float | None:

@@ -90,7 +90,7 @@ def _split(value: Any) -> dict[str, float | None]:
 def record_from_summary(summary: dict, criterion: str, task_time_s: float) -> dict:
     """The campaign record of a finished prediction (from its ``summary.json`` dict)."""
     objective = summary.get("objective") or {}
-    value = _split(objective.get(terms.label(criterion)))["total"]
+    value = terms.minimized(objective, criterion)
     walked = (summary.get("descriptors") or {}).get("predicted") and summary["descriptors"]
     if walked and isinstance(value, (int, float)):  # per metre: starts differ in their period
         value = value / walked["stride_length"]

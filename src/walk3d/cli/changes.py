@@ -85,9 +85,8 @@ def changes_option(
     equal_steps: bool = False,
 ) -> dict:
     """``{"changes": {...}, "full_cycle": True, "equal_steps": True}`` for the settings from the
-    options (each only
-    when given), or one error line and exit 2 for one that does not parse (names and values are
-    checked by the settings)."""
+    options (each only when given), or one error line and exit 2 for one that does not parse
+    (names and values are checked by the settings)."""
     changes: dict[str, list] = {}
     if leg_length:
         changes["shank_length"] = [("shank_r", leg_length)]

@@ -162,6 +162,16 @@ def label(spec: str) -> str:
     return f"C_{spec}" if spec in BASES else "C_weighted"
 
 
+def minimized(objective: dict, spec: str) -> float | None:
+    """The criterion value the solver minimized, from a summary's ``objective``: ``C_weighted``'s
+    total (the weighted terms and any what-if part: overload, step asymmetry), else the value of
+    :func:`label` (older summaries), or None."""
+    weighted = objective.get("C_weighted")
+    if isinstance(weighted, dict) and isinstance(weighted.get("total"), (int, float)):
+        return float(weighted["total"])
+    return (objective.get(label(spec)) or {}).get("total")
+
+
 def preset_name(spec: str) -> str | None:
     """The preset whose weights ``spec`` has, or None."""
     w = parse(spec)

@@ -143,10 +143,17 @@ def _criteria(summary: dict) -> str:
         rows.append((key + mark, h.fmt(c.get("total")), h.fmt(c.get("x")), h.fmt(c.get("y")),
                      h.fmt(c.get("z")), h.fmt(weights.get(name), "g"), h.fmt(part),
                      h.fmt(share, ".1f", "%")))  # fmt: skip
+    for name, part in parts.items():  # what-if parts outside the weights (overload, steps)
+        if name not in weights and isinstance(part, float):
+            share = 100 * part / total if total else None
+            rows.append((f"{name} (what-if)", "", "", "", "", "", h.fmt(part),
+                         h.fmt(share, ".1f", "%")))  # fmt: skip
     out = [h.table(("criterion", "total", "x", "y", "z", "weight", "weight × value",
                     "share of the sum"), rows)]  # fmt: skip
     if isinstance(total, float):
-        out.append(h.note(f"Minimized C_weighted = Σ weight × value = {total:.4g}."))
+        out.append(
+            h.note(f"Minimized C_weighted = Σ weight × value (and what-if parts) = {total:.4g}.")
+        )
     stride = _get(summary, "descriptors", "stride_length")
     if _get(summary, "descriptors", "predicted") and isinstance(stride, float):
         out.append(h.note("With T or Td predicted the solver minimizes the criterion per metre "
