@@ -149,10 +149,12 @@ def solve_full_cycle(
     half: SolveOutcome,
     on_stage: Callable[[str], None] | None = None,
     max_iter: int = FULL_CYCLE_MAX_ITER,
+    start: np.ndarray | None = None,
 ) -> FullCycleOutcome:
     """Solve ``settings`` (T and Td given) on the full cycle, started from ``half``, a
     half-cycle outcome of the same gait (with :meth:`Changes.half_cycle
-    <walk3d.problem.whatif.Changes.half_cycle>`)."""
+    <walk3d.problem.whatif.Changes.half_cycle>`). ``start``: the ``X`` (subject's units) to start
+    from instead of ``half`` mirrored (the steps' variables still come from ``half``)."""
     if settings.gait.free:
         raise ValueError("the full-cycle problem needs T and Td (solve the half cycle first)")
     ref, scale = similarity.reference_problem(settings)
@@ -162,7 +164,7 @@ def solve_full_cycle(
         full = build_full_problem(ref)
         fp, lbz, ubz, lbg, ubg, own = full.problem, full.lbz, full.ubz, full.lbg, full.ubg, full.own
         x_ref = similarity.subject_x(half.x, 1.0 / scale)
-        z0 = [mirrored_start(x_ref)]
+        z0 = [mirrored_start(x_ref) if start is None else similarity.subject_x(start, 1 / scale)]
         for s in full.steps:
             zs = full_stage_start(s, _z_from_x(s, x_ref))
             zs[:N_X][own] = 0.0
