@@ -17,7 +17,6 @@ on the 101 samples. docs/what-if.md ("The criterion prefers a limp") has the fig
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 from pathlib import Path
@@ -82,7 +81,7 @@ def main(argv: list[str] | None = None) -> int:
         print(name, r, flush=True)
     result = {environment.KEY: environment.environment(), "d0_m": args.d0, "runs": runs}
     path = environment.output_path(args, NAME)
-    path.write_text(json.dumps(result, indent=2) + "\n")
+    environment.write(path, result)
     print(f"wrote {path}")
     return 0
 

@@ -14,7 +14,6 @@ figures.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import subprocess
 import sys
@@ -106,7 +105,7 @@ def main(argv: list[str] | None = None) -> int:
         "runs": runs,
     }
     path = environment.output_path(args, NAME)
-    path.write_text(json.dumps(result, indent=2) + "\n")
+    environment.write(path, result)
     print(f"wrote {path}")
     return 0
 
