@@ -88,13 +88,18 @@ SHIFT_SIGN = (-1.0, 1.0)
 stride ahead and stood ``d`` further behind; step L, mirrored, the other way round."""
 
 
-def shift_derivatives(prob: dict) -> dict[str, ca.Function]:
-    """A step NLP's derivatives in its anchor shift ``a`` (``prob["p"]``), by CasADi's AD
-    through the mapped node function: ``jac(z, a) -> ∂g/∂a``, ``grad(z, a) -> ∂f/∂a`` and
-    ``hess(z, a, λ_f, λ_g) -> (∂²L/∂z∂a, ∂²L/∂a²)``, ``L = λ_f f + λ_gᵀ g``."""
-    zs, a = ca.MX.sym("z", prob["x"].numel()), ca.MX.sym("a")
-    f = ca.Function("f", [prob["x"], prob["p"]], [prob["f"]])(zs, a)
-    g = ca.Function("g", [prob["x"], prob["p"]], [prob["g"]])(zs, a)
+def step_functions(prob: dict) -> tuple[ca.Function, ca.Function]:
+    """``f(z, a)`` and ``g(z, a)`` of a step NLP, ``a`` its anchor shift (``prob["p"]``)."""
+    return tuple(ca.Function(k, [prob["x"], prob["p"]], [prob[k]]) for k in ("f", "g"))
+
+
+def shift_derivatives(f_fn: ca.Function, g_fn: ca.Function) -> dict[str, ca.Function]:
+    """A step NLP's derivatives in its anchor shift ``a``, from its :func:`step_functions`,
+    by CasADi's AD through the mapped node function: ``jac(z, a) -> ∂g/∂a``,
+    ``grad(z, a) -> ∂f/∂a`` and ``hess(z, a, λ_f, λ_g) -> (∂²L/∂z∂a, ∂²L/∂a²)``,
+    ``L = λ_f f + λ_gᵀ g``."""
+    zs, a = ca.MX.sym("z", f_fn.size1_in(0)), ca.MX.sym("a")
+    f, g = f_fn(zs, a), g_fn(zs, a)
     lf, lg = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", g.numel())
     dg, df = ca.jacobian(g, a), ca.gradient(f, a)
     la = lf * df + ca.dot(lg, dg)
@@ -141,7 +146,8 @@ class FullProblem:
         p = ca.MX.sym("p", 0)
         lam_f = ca.MX.sym("lam_f")
         d_r, d_l = prob_r["derivatives"], prob_l["derivatives"]
-        s_r, s_l = shift_derivatives(prob_r), shift_derivatives(prob_l)
+        fns = [step_functions(pb) for pb in (prob_r, prob_l)]
+        s_r, s_l = (shift_derivatives(*fg) for fg in fns)
         x = z[:N_XF]
         a_r, a_l = (sign * x[I_D] for sign in SHIFT_SIGN)
         f_r, grad_r = d_r["grad_f"](z_r, a_r)
@@ -150,14 +156,14 @@ class FullProblem:
         gl, jac_l = d_l["jac_g"](z_l, a_l)
         q = ca.DM(np.zeros(N_XF) if quad is None else quad)
         e_d = ca.DM(ca.Sparsity.triplet(1, N_XF, [0], [I_D]), 1.0)  # the row vector of d
+        e_col = ca.DM(ca.Sparsity.triplet(n_z, 1, [I_D], [0]), 1.0)  # d's column in z
         c = 0.5 * (f_r + f_l) + ca.dot(q, x * x)
         steps = tuple(zip(SHIFT_SIGN, (s_r, s_l), (z_r, z_l), (a_r, a_l), strict=True))
         df = 0.5 * sum(sign * sd["grad"](zs, a) for sign, sd, zs, a in steps)
         grad_c = ca.vertcat(2 * q * x + ca.mtimes(e_d.T, df), 0.5 * grad_r, 0.5 * grad_l)
         m = 1 + kappa * x[I_D] ** 2  # the step asymmetry's factor (module doc)
         f = m * c
-        grad = m * grad_c + ca.mtimes(ca.DM(ca.Sparsity.triplet(n_z, 1, [I_D], [0]), 1.0),
-                                      2 * kappa * x[I_D] * c)  # fmt: skip
+        grad = m * grad_c + ca.mtimes(e_col, 2 * kappa * x[I_D] * c)
         xs = ca.MX.sym("X", N_XF)
         g_xs = ca.vertcat(ca.MX(0, 1), *(
             loop_rows(fn, cmap, xs, ax + sign * xs[I_D])
@@ -198,7 +204,6 @@ class FullProblem:
         ) + ca.horzcat(ca.MX(1, I_D + 1), u[I_D + 1 :].T)
         d_col = ca.vertcat(u[:I_D], ca.MX(n_z - I_D, 1))  # rows above d (X's coefficients)
         h_x = ca.diag(2 * lam_c * q) + h_loop
-        e_col = ca.DM(ca.Sparsity.triplet(n_z, 1, [I_D], [0]), 1.0)
         hess = (ca.diagcat(h_x, h_r, h_l) + ca.mtimes(e_col, d_row)
                 + ca.mtimes(d_col, e_col.T))  # fmt: skip
         self.derivatives = {
@@ -209,10 +214,8 @@ class FullProblem:
         }  # fmt: skip
         zz = ca.MX.sym("z", n_z)
         xx = zz[:N_XF]
-        parts = [(ca.Function("f", [pb["x"], pb["p"]], [pb["f"]]),
-                  ca.Function("g", [pb["x"], pb["p"]], [pb["g"]]), zs, sign * xx[I_D])
-                 for pb, zs, sign in zip((prob_r, prob_l), (zz[off_r:off_l], zz[off_l:]),
-                                         SHIFT_SIGN, strict=True)]  # fmt: skip
+        parts = [(fn, gn, zs, sign * xx[I_D]) for (fn, gn), zs, sign
+                 in zip(fns, (zz[off_r:off_l], zz[off_l:]), SHIFT_SIGN, strict=True)]  # fmt: skip
         self.nlp = {
             "x": zz,
             "f": (1 + kappa * xx[I_D] ** 2)
