@@ -127,7 +127,7 @@ def build_full_problem(ref: PredictionSettings) -> FullNlp:
     b = [s.nlp_bounds("full") for s in (s_r, s_l)]
     fixed = layout.full_fixed_zero_mask()
     lbz, ubz = [np.where(fixed, 0.0, -np.inf)], [np.where(fixed, 0.0, np.inf)]
-    d_max = 0.0 if ref.model.equal_steps else STEP_SHIFT_LIMIT * ref.gait.stride_length / 2
+    d_max = 0.0 if ref.model.equal_steps else STEP_SHIFT_LIMIT * half
     lbz[0][layout.I_STEP_SHIFT], ubz[0][layout.I_STEP_SHIFT] = -d_max, d_max
     own = np.arange(N_X) != layout.I_HALF_STEP
     for bb in b:  # fixed at zero; the width is tied to X's
