@@ -6,9 +6,12 @@
 start to exit) on five descriptor sets of both sexes at 0.9-1.7 m/s, each with T and Td
 predicted (``--descriptors-from atlas``, the default: one solve; ``solve``: the free landing
 solved first, then the handover) and with T and Td given (one solve either way). The model
-cache is warm (a first run fills it and is not counted), nothing is compiled, runs go one at a
-time, with ``OPENBLAS_NUM_THREADS=1``. Records per run: wall time, exit code, convergence,
-iterations, the predicted T and Td and ``looks_like_walking``; and the medians per mode.
+cache is warm (a first run fills it and is not counted), runs go one at a time, with
+``OPENBLAS_NUM_THREADS=1``. Nothing is compiled, unless ``--compile``: then ``walk3d compile``
+runs for both sexes after the cache is filled (timed), and the runs use the compiled
+derivatives. Records per run: wall time, exit code, convergence, iterations, the predicted T
+and Td, ``looks_like_walking`` and whether the derivatives were compiled; and the medians per
+mode.
 
 **realism**: the shared sources of ``benchmarks/criteria_sweep.py`` (Falisse, Winter,
 subject01; skipped when ``../shared/data`` is absent), each predicted with T and Td from the
@@ -59,10 +62,21 @@ def run(out: Path, args: list[str], cache: Path) -> dict:
         row.update(converged=s["converged"], iterations=s["iterations"],
                    period_s=round(d["period"], 4), double_support_s=round(d["double_support"], 4),
                    predicted_by=d.get("predicted_by"), solve_s=round(s["wall_time_s"], 2),
-                   walks=s["gait_checks"].get("looks_like_walking"))  # fmt: skip
+                   walks=s["gait_checks"].get("looks_like_walking"),
+                   compiled=bool(s.get("compiled_derivatives")))  # fmt: skip
     else:
         row["stderr_tail"] = proc.stderr[-300:]
     return row
+
+
+def compile_for(sex: str, cache: Path) -> dict:
+    """``walk3d compile --sex sex`` into ``cache``: wall time and exit code."""
+    env = dict(os.environ, WALK3D_CACHE_DIR=str(cache), OPENBLAS_NUM_THREADS="1")
+    t0 = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-m", "walk3d.cli", "compile", "--sex", sex], env=env,
+                          capture_output=True, text=True)  # fmt: skip
+    return {"wall_s": round(time.perf_counter() - t0, 1), "exit_code": proc.returncode,
+            "last_line": proc.stdout.strip().splitlines()[-1:]}  # fmt: skip
 
 
 def realism(root: Path) -> list[dict]:
@@ -107,9 +121,14 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument("--cache", help="model cache folder to use (default: a new one, filled first)")
     ap.add_argument("--parts", nargs="+", default=["timing", "realism"])
+    ap.add_argument(
+        "--compile",
+        action="store_true",
+        help="run `walk3d compile` for both sexes after filling the cache (timed)",
+    )
     environment.add_output_arguments(ap, NAME)
     args = ap.parse_args(argv)
-    rows, real = [], []
+    rows, real, compile_s = [], [], {}
     with tempfile.TemporaryDirectory(prefix="walk3d-one-solve-") as tmp:
         root = Path(tmp)
         if "realism" in args.parts:
@@ -119,6 +138,9 @@ def main(argv: list[str] | None = None) -> int:
             args.modes = []
         for sex in ("female", "male") if args.modes else ():  # fill the cache: not counted
             run(root / f"fill-{sex}", ["--sex", sex], cache)
+            if args.compile:
+                compile_s[sex] = compile_for(sex, cache)
+                print(f"walk3d compile --sex {sex}: {compile_s[sex]}", flush=True)
         for name, (v, m, h, sex, t, td) in SETS.items():
             common = ["--speed", str(v), "--mass", str(m), "--height", str(h), "--sex", sex]
             for mode in args.modes:
@@ -132,7 +154,7 @@ def main(argv: list[str] | None = None) -> int:
                for m in args.modes}  # fmt: skip
     print(f"median end-to-end wall time, s: {medians}")
     result = {environment.KEY: environment.environment(), "sets": SETS, "runs": rows,
-              "median_wall_s": medians, "realism": real}  # fmt: skip
+              "median_wall_s": medians, "compile": compile_s, "realism": real}  # fmt: skip
     path = environment.output_path(args, NAME)
     environment.write(path, result)
     print(f"wrote {path}")

@@ -225,3 +225,15 @@ def test_the_equal_steps_flag_reaches_the_settings():
     assert changes_option(None, None, None) == {}
     s = PredictionSettings(**changes_option(None, None, "torso=2", equal_steps=True))
     assert s.model.equal_steps and s.model.changes.added_mass == (("torso", 2.0),)
+
+
+def test_compile_hint_names_the_command_for_the_prediction():
+    """The predict table's hint gives the compile command for this sex and criterion, and says
+    when other model options must be repeated (each changes what is compiled)."""
+    from walk3d import api
+    from walk3d.cli.commands import compile_hint
+
+    default = compile_hint(api.settings(1.3, sex="female"))
+    assert "`walk3d compile --sex female`" in default and "options" not in default
+    assert "--criterion tor`" in compile_hint(api.settings(1.3, criterion="tor"))
+    assert "this model's options" in compile_hint(api.settings(1.3, load_ramp=0.0))

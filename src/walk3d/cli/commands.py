@@ -254,7 +254,7 @@ def predict(
     if solver == "ipopt":
         comp = s.get("compiled_derivatives") or []
         t.add_row("derivatives", f"compiled C ({', '.join(comp)})" if comp else
-                  "CasADi VM (run `walk3d compile` once for faster solves)")  # fmt: skip
+                  f"CasADi VM ({compile_hint(settings)})")  # fmt: skip
         t.add_row("linear algebra", f"{settings.solver.linear_solver.upper()} on {s['blas']}")
     objective_rows(t, s["objective"], settings.model.criterion)
     t.add_row(
@@ -295,6 +295,19 @@ def descriptor_text(d: dict) -> str:
             f"{d['double_support']:.3f} s{mark('double_support')}; stride "
             f"{d['stride_length']:.3f} m, cadence {d['cadence']:.1f} steps/min, stance "
             f"{100 * d['stance_fraction']:.1f} %")  # fmt: skip
+
+
+def compile_hint(settings) -> str:
+    """What makes later solves of ``settings``' sex and criterion faster: the ``walk3d compile``
+    command and its cost (165-180 s on 2 cores, docs/solver.md), or the options to repeat."""
+    from walk3d.problem import terms
+
+    model = settings.model
+    name = terms.preset_name(model.criterion)
+    crit = "" if name == DEFAULT_PRESET else f" --criterion {name or model.criterion}"
+    more = "" if type(model)(criterion=model.criterion) == model else " and this model's options"
+    return (f"`walk3d compile --sex {settings.gait.sex}{crit}`{more} once, about 3 minutes, "
+            "about halves later solves")  # fmt: skip
 
 
 def objective_rows(t: Table, objective: dict, criterion: str) -> None:
