@@ -366,3 +366,164 @@ def test_write_warm_solves_only_the_entries_it_has_no_point_for(tmp_path, monkey
     solved.clear()
     campaign_atlas.write_warm(path)
     assert solved == [1.2, 1.4]
+
+
+def test_period_weights_bracket_the_ratio_and_never_extrapolate():
+    f = np.array([1.0, 0.9, 1.1])
+    assert atlas.period_weights(f, 0.95) == [(1, pytest.approx(0.5)), (0, pytest.approx(0.5))]
+    assert atlas.period_weights(f, 1.075) == [(0, pytest.approx(0.25)), (2, pytest.approx(0.75))]
+    assert dict(atlas.period_weights(f, 1.3))[2] == pytest.approx(1.0)  # the end, not beyond
+    assert dict(atlas.period_weights(f, 0.5))[1] == pytest.approx(1.0)
+    # negative control: the other side of 1 takes the other neighbour
+    assert dict(atlas.period_weights(f, 1.05))[2] == pytest.approx(0.5)
+
+
+def _write_periods(root, speeds, factors=(0.9, 1.1)):
+    """Each entry's point at factor f is its own (z = speed) times 10 f."""
+    k = np.array(factors)
+    v = np.array(speeds)[:, None, None]
+    np.savez(atlas.periods_path(atlas.atlas_path("male", "natural", root)), speeds=np.array(speeds),
+             factors=k, z=v * 10 * k[None, :, None] * np.ones(4),
+             lam_x=-v * 10 * k[None, :, None] * np.ones(4),
+             lam_g=v * 10 * k[None, :, None] * np.arange(5.0))  # fmt: skip
+
+
+def test_a_given_period_blends_the_entries_optima_that_bracket_it(tmp_path):
+    """T given 5 % above the blended entries' (2.25 s at 1.25 m/s in ``_write``): half of each
+    entry's own point and half of its point at 1.1 T; x follows the blended z."""
+    _write(tmp_path, [1.0, 1.2, 1.4])
+    path = atlas.atlas_path("male", "natural", tmp_path)
+    data = json.loads(path.read_text())
+    for e in data["entries"]:
+        e["x_handover"] = [0.0] * layout.N_X
+    path.write_text(json.dumps(data))
+    same = [True, False, True, True, False]
+    _write_warm(tmp_path, [1.2, 1.4], [same, same])
+    _write_periods(tmp_path, [1.2, 1.4])
+    start = atlas.start_for(_ref(1.25, handover=True, free=(), period=2.25 * 1.05), tmp_path)[0]
+    expect = 1.25 * (0.5 + 0.5 * 11.0)
+    np.testing.assert_allclose(start.warm["z"], expect)
+    np.testing.assert_allclose(start.warm["lam_g"], expect * np.array([0.0, 2.0, 3.0]))
+    assert start.period_ratio == pytest.approx(1.05)
+    assert start.describe()["atlas_period_ratio"] == pytest.approx(1.05)
+    # negative controls: the atlas's own period, predicted descriptors, a failed level (NaN)
+    for ref in (_ref(1.25, handover=True, free=(), period=2.25), _ref(1.25, handover=True)):
+        own = atlas.start_for(ref, tmp_path)[0]
+        np.testing.assert_allclose(own.warm["z"], 1.25)
+        assert own.period_ratio is None and "atlas_period_ratio" not in own.describe()
+    p = atlas.periods_path(path)
+    data = dict(np.load(p))
+    data["z"][1, 1] = np.nan
+    np.savez(p, **data)
+    kept = atlas.start_for(_ref(1.25, handover=True, free=(), period=2.25 * 1.05), tmp_path)[0]
+    np.testing.assert_allclose(kept.warm["z"], 1.25)
+    assert kept.period_ratio is None
+
+
+@pytest.mark.solve
+def test_an_entry_optimum_at_another_period_is_feasible_there():
+    """The shipped optimum at 1.1 T of the 1.4 m/s entry meets the handover problem's rows at
+    1.1 T and 1.1 Td to the entry tolerance. Negative control: at the entry's own T and Td it
+    does not."""
+    from walk3d.solve.ipopt import build_solver
+    from walk3d.solve.progress import bound_violation
+    from walk3d.solve.solver import forget_solvers
+
+    a = atlas.load_atlas("male", "natural")
+    levels = atlas.load_periods(a)
+    n = int(np.argmin(np.abs(levels["speeds"] - 1.4)))
+    i = int(np.argmin(np.abs(a.speeds - levels["speeds"][n])))
+    m = int(np.flatnonzero(np.isclose(levels["factors"], 1.1))[0])
+    z = levels["z"][n, m]
+
+    def worst(f):
+        given = atlas_settings("male", "natural").replace(
+            handover=True, free=(), speed=float(a.speeds[i]), period=float(a.periods[i]) * f,
+            double_support=float(a.double_supports[i]) * f)  # fmt: skip
+        solver = build_solver(given)
+        b = solver.nlp_bounds("full")
+        g = np.array(solver.constraints(z)).ravel()
+        return max(bound_violation(z, b.lbz, b.ubz), bound_violation(g, b.lbg, b.ubg))
+
+    try:
+        assert worst(1.1) <= ENTRY_TOLERANCE
+        assert worst(1.0) > 1e-3
+    finally:
+        forget_solvers()
+
+
+@pytest.mark.solve
+def test_a_given_period_away_from_the_atlas_takes_fewer_iterations_from_its_optima(monkeypatch):
+    """Male, 1.5 m/s, T 1.02 s and Td 0.11 s given (0.7 % below the atlas's period, its rows):
+    from the entries' optima blended at that period in at least 4 fewer iterations than from
+    their own optima alone (negative control, which records no ratio), to the same optimum."""
+    import walk3d
+    from walk3d.solve.solver import forget_solvers
+
+    def run():
+        p = walk3d.predict(1.5, period=1.02, double_support=0.11, mass=72.0, height=1.78,
+                           sex="male", threads=1)  # fmt: skip
+        forget_solvers()
+        return p.summary
+
+    fast = run()
+    monkeypatch.setattr(atlas, "load_periods", lambda _a: None)
+    slow = run()
+    assert fast["converged"] and slow["converged"]
+    assert fast["stages"][-1]["atlas_period_ratio"] == pytest.approx(0.993, abs=0.002)
+    assert "atlas_period_ratio" not in slow["stages"][-1]
+    assert fast["iterations"] + 4 <= slow["iterations"]
+    w = fast["objective"]["C_weighted"]["total"]
+    assert w == pytest.approx(slow["objective"]["C_weighted"]["total"], rel=1e-5)
+
+
+def test_optima_at_other_periods_need_the_entries_primal_dual_points(tmp_path):
+    from walk3d.campaign.atlas import write_periods
+
+    _write(tmp_path, [1.0, 1.2])
+    path = atlas.atlas_path("male", "natural", tmp_path)
+    with pytest.raises(ValueError, match="no primal-dual points"):
+        write_periods(path)
+    assert not atlas.periods_path(path).exists()
+
+
+def test_write_periods_tries_the_own_point_a_neighbour_then_continuation_and_resumes(
+    tmp_path, monkeypatch
+):
+    """Which starts each level's solve gets, with a fake solve that fails from the 1.4 m/s
+    entry's own point at 1.1 T and from its neighbour's (so continuation through 1.05 T), and
+    that a second run solves only what is still NaN (negative control: a level that never
+    converges stays NaN and is tried again)."""
+    import walk3d.campaign.atlas as campaign_atlas
+
+    _write(tmp_path, [0.6, 0.8])
+    path = atlas.atlas_path("male", "natural", tmp_path)
+    same = [True, False, True, True, False]
+    _write_warm(tmp_path, [0.6, 0.8], [same, same])
+    calls = []
+
+    def fake(given, start, mask):
+        ratio = given.gait.period / (1.0 + given.gait.speed)
+        calls.append((given.gait.speed, round(ratio, 3), float(start["z"][0])))
+        if given.gait.speed == 0.8 and round(ratio, 3) == 1.1 and start["z"][0] != 8.0:
+            return None  # fails from the entry's own point and from the neighbour's level
+        value = 8.0 if round(ratio, 3) == 1.05 else 7.0
+        return {k: np.full(start[k].shape, value) for k in ("z", "lam_x", "lam_g")}
+
+    monkeypatch.setattr(campaign_atlas, "_period_point", fake)
+    campaign_atlas.write_periods(path)
+    assert calls == [(0.6, 0.9, 0.6), (0.6, 1.1, 0.6), (0.8, 0.9, 0.8),
+                     (0.8, 1.1, 0.8), (0.8, 1.1, 7.0),  # own, then 0.6's level: both fail
+                     (0.8, 1.05, 0.8), (0.8, 1.1, 8.0)]  # half-way, then from there  # fmt: skip
+    levels = atlas.load_periods_file(atlas.periods_path(path))
+    assert np.isfinite(levels["z"]).all()
+    calls.clear()
+    campaign_atlas.write_periods(path)
+    assert calls == []  # all kept
+    data = dict(np.load(atlas.periods_path(path)))
+    data["z"][1, 1] = np.nan
+    np.savez(atlas.periods_path(path), **data)
+    monkeypatch.setattr(campaign_atlas, "_period_point", lambda given, start, mask: None)
+    campaign_atlas.write_periods(path)
+    levels = atlas.load_periods_file(atlas.periods_path(path))
+    assert np.isnan(levels["z"][1, 1]).all() and np.isfinite(levels["z"][0]).all()

@@ -4,6 +4,16 @@ For a sex and a criterion preset, the reference subject (68.8 kg, 1.77 m) is swe
 with the period and double support predicted, from standing at 1.3 m/s and outwards from
 neighbours (:mod:`walk3d.campaign.sweep`); every speed that converged and looks like walking
 becomes an entry. Only walk3d's own predictions go in, never measured data.
+
+Other periods. A prediction with T and Td given starts from the atlas entries at its speed,
+whose optima are at walk3d's own, predicted T and Td. When the given period differs by some
+percent, the optimum moves far (a period 10 % longer raised the criterion by 29 % at 1.7 m/s),
+and the solve from the entries' primal-dual points took 41 iterations. Blending two optima that
+bracket the given period, as two speeds are blended, took 18 (docs/solver.md). So each entry
+with a primal-dual point (:func:`write_warm`) also gets the handover
+optimum at its period and double support times each of :data:`PERIOD_FACTORS`: Td scales with T,
+so the double-support nodes of the regular grid, and with them the stage's rows, stay the
+entry's.
 """
 
 from __future__ import annotations
@@ -11,6 +21,7 @@ from __future__ import annotations
 import datetime as dt
 import json
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 import casadi as ca
@@ -18,13 +29,13 @@ import numpy as np
 
 from walk3d.constants import __version__
 from walk3d.io._atomic import atomic_path, atomic_write_text
-from walk3d.problem import descriptors, similarity, terms
+from walk3d.problem import descriptors, layout, similarity, terms
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import SOLVE_REVISION
 from walk3d.solve.atlas import ATLAS_DIR, FORMAT, atlas_path, settings_key
 
-__all__ = ["ATLAS_SPEEDS", "add_handover", "atlas_settings", "build_atlas", "fingerprint",
-           "write_atlas", "write_warm"]  # fmt: skip
+__all__ = ["ATLAS_SPEEDS", "PERIOD_FACTORS", "add_handover", "atlas_settings", "build_atlas",
+           "fingerprint", "write_atlas", "write_periods", "write_warm"]  # fmt: skip
 
 ATLAS_SPEEDS = "0.6:2.0:0.1"
 """Reference-subject speeds, m/s: subjects of 1.5-2.0 m walking 0.65-1.9 m/s map inside
@@ -120,6 +131,7 @@ def build_atlas(
     run_sweep(atlas_settings(sex, preset), grid, work, seed, on_progress=on_progress)
     path, n = write_atlas(sex, preset, work, grid, out_dir, seed)
     add_handover(path, on_progress)
+    write_periods(path, on_progress=on_progress)
     return path, n, len(grid)
 
 
@@ -253,3 +265,97 @@ def write_warm(path: Path, points: dict[float, dict | None] | None = None) -> Pa
     with atomic_path(target, suffix=".npz") as tmp:
         np.savez_compressed(tmp, **{k: np.asarray(v) for k, v in rows.items()})
     return target
+
+
+PERIOD_FACTORS = (0.9, 1.1)
+"""Periods of the extra optima, as factors of each entry's own: published cadences for a
+speed lie within about ±10 % of walk3d's predicted ones (the five sets of
+``benchmarks/one_solve.py``: −7.5 % to +10.6 %)."""
+PERIOD_MAX_ITER = 150
+"""Iteration limit of one such solve from the entry's own primal-dual point (they took 35-60)."""
+_POINT = ("z", "lam_x", "lam_g")
+
+
+def write_periods(
+    path: Path,
+    factors: tuple[float, ...] = PERIOD_FACTORS,
+    on_progress: Callable[[str, int, int], None] | None = None,
+) -> Path:
+    """Solve and write the atlas file ``path``'s optima at other periods (module docstring,
+    :func:`walk3d.solve.atlas.periods_path`): for each entry of its warm file and each factor
+    f, the handover problem at the entry's V, f T and f Td with IPOPT's warm start, first from
+    the entry's own primal-dual point, then, where that failed, from the nearest speed's optimum
+    at the same f, then by continuation through (1 + f) / 2. A solve that does not converge
+    upright, or whose rows differ from the entry's, leaves NaN. Points already in a file of the
+    same speeds and factors are kept (resumable). Returns the file written."""
+    from walk3d.solve.atlas import load_warm, periods_path, read_atlas
+
+    atlas = read_atlas(path)
+    warm = load_warm(atlas)
+    if warm is None:
+        raise ValueError(f"{path} has no primal-dual points: build them first (walk3d atlas build)")
+    target = periods_path(path)
+    out = _kept_periods(target, warm, factors)
+    base = atlas_settings(atlas.sex, atlas.preset).replace(handover=True, free=())
+    speeds = warm["speeds"]
+    todo = [(n, m) for n in range(speeds.size) for m in range(len(factors))
+            if not np.isfinite(out["z"][n, m]).all()]  # fmt: skip
+    for step, (n, m) in enumerate(todo):
+        v, f = float(speeds[n]), factors[m]
+        if on_progress:
+            on_progress(f"{v:.2f} m/s at {f:g} T", step, len(todo))
+        k = int(np.flatnonzero(np.isclose(atlas.speeds, v))[0])
+
+        t, td = float(atlas.periods[k]), float(atlas.double_supports[k])
+
+        def at(c: float, v: float = v, t: float = t, td: float = td) -> PredictionSettings:
+            return base.replace(speed=v, period=t * c, double_support=td * c)
+
+        own = {key: warm[key][n] for key in _POINT}
+        near = [j for j in np.argsort(np.abs(speeds - v), kind="stable") if j != n
+                and np.isfinite(out["z"][j, m]).all()
+                and np.array_equal(warm["rows"][j], warm["rows"][n])][:1]  # fmt: skip
+        point = None
+        for start in [own] + [{key: out[key][j, m] for key in _POINT} for j in near]:
+            point = point or _period_point(at(f), start, warm["rows"][n])
+        if point is None:  # continuation: half-way first, then from there
+            half = _period_point(at((1.0 + f) / 2.0), own, warm["rows"][n])
+            point = half and _period_point(at(f), half, warm["rows"][n])
+        if point is not None:
+            for key in _POINT:
+                out[key][n, m] = point[key]
+    with atomic_path(target, suffix=".npz") as tmp:
+        np.savez_compressed(tmp, speeds=speeds, factors=np.asarray(factors), **out)
+    return target
+
+
+def _kept_periods(target: Path, warm: dict, factors: tuple[float, ...]) -> dict[str, np.ndarray]:
+    """The points of an earlier ``target`` when it has the same speeds and factors, else NaN."""
+    from walk3d.solve.atlas import load_periods_file
+
+    shape = (warm["speeds"].size, len(factors))
+    out = {k: np.full((*shape, warm[k].shape[1]), np.nan) for k in _POINT}
+    old = load_periods_file(target)
+    if (old is not None and np.array_equal(old["speeds"], warm["speeds"])
+            and np.allclose(old["factors"], factors)
+            and all(old[k].shape == out[k].shape for k in _POINT)):  # fmt: skip
+        out = {k: np.array(old[k], dtype=float) for k in _POINT}
+    return out
+
+
+def _period_point(given: PredictionSettings, start: dict, mask: np.ndarray) -> dict | None:
+    """The handover optimum of ``given`` from the primal-dual point ``start`` (all rows), or
+    None when it did not converge upright or its stage rows are not ``mask``."""
+    from walk3d.solve.ipopt import build_solver, warm_stage
+    from walk3d.solve.solver import forget_solvers
+
+    solver = build_solver(given)
+    point = None
+    if np.array_equal(solver.stage_rows["full"], np.flatnonzero(mask)):
+        stage = replace(solver.plan["full"], max_iter=PERIOD_MAX_ITER)
+        begin = {"z": start["z"], "lam_x": start["lam_x"], "lam_g": start["lam_g"][mask],
+                 "rows": np.flatnonzero(mask)}  # fmt: skip
+        done = warm_stage(solver, stage, start["z"][: layout.N_X], 1.0, warm=begin)
+        point = _warm_point(given, done)
+    forget_solvers()
+    return point

@@ -72,15 +72,18 @@ def build(
 @atlas_app.command("show")
 def show() -> None:
     """List the package's atlas files: sex, preset, speeds, solve revision, the entries with a
-    handover optimum (and with a primal-dual start) for the one-solve default, and whether this
-    walk3d can use them; a file that is not an atlas (damaged, stray) is flagged in its row."""
+    handover optimum (and with a primal-dual start) for the one-solve default, those with optima
+    at other periods (for a given T), and whether this walk3d can use them; a file that is not
+    an atlas (damaged, stray) is flagged in its row."""
     import numpy as np
     from rich.table import Table
 
-    from walk3d.solve.atlas import ATLAS_DIR, load_warm, read_atlas
+    from walk3d.solve.atlas import ATLAS_DIR, load_periods, load_warm, read_atlas
 
     t = Table(title=f"walk3d atlas ({ATLAS_DIR})")
-    for col in ("sex", "preset", "speeds m/s", "entries", "handover (warm)", "revision", "usable"):
+    cols = ("sex", "preset", "speeds m/s", "entries", "handover (warm)", "other periods",
+            "revision", "usable")  # fmt: skip
+    for col in cols:
         t.add_column(col)
     for path in sorted(ATLAS_DIR.glob("*.json")):
         sex, _, preset = path.stem.partition("-")
@@ -88,11 +91,16 @@ def show() -> None:
             a = read_atlas(path)
         except (ValueError, OSError) as exc:  # another format, damaged, or a stray file
             why = " ".join(str(exc).split())
-            t.add_row(sex, preset or "-", "-", "-", "-", "-", f"no: not a usable atlas ({why})")
+            t.add_row(
+                sex, preset or "-", "-", "-", "-", "-", "-", f"no: not a usable atlas ({why})"
+            )
             continue
         ho = 0 if a.x_handover is None else int(np.isfinite(a.x_handover).all(axis=1).sum())
-        warm = load_warm(a)
+        warm, levels = load_warm(a), load_periods(a)
+        other = "-" if levels is None else ", ".join(
+            f"{f:g} T: {int(np.isfinite(levels['z'][:, m, 0]).sum())}"
+            for m, f in enumerate(levels["factors"]))  # fmt: skip
         t.add_row(sex, preset, f"{a.speeds[0]:.2f}-{a.speeds[-1]:.2f}", str(len(a.speeds)),
-                  f"{ho} ({0 if warm is None else warm['speeds'].size})",
+                  f"{ho} ({0 if warm is None else warm['speeds'].size})", other,
                   str(a.solve_revision), "yes" if a.current else "no: rebuild")  # fmt: skip
     console.print(t)

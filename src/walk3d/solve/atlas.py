@@ -31,7 +31,8 @@ from walk3d.problem.settings import OPT_IN, PredictionSettings
 from walk3d.solve.revision import SOLVE_REVISION
 
 __all__ = ["ATLAS_DIR", "FORMAT", "Atlas", "AtlasStart", "atlas_path", "candidates",
-           "load_atlas", "read_atlas", "settings_key", "start_for"]  # fmt: skip
+           "load_atlas", "load_periods", "load_periods_file", "period_weights", "read_atlas",
+           "settings_key", "start_for"]  # fmt: skip
 
 ATLAS_DIR = Path(__file__).resolve().parent / "atlas_data"
 """Where the package's atlas files are (package data)."""
@@ -93,10 +94,17 @@ class AtlasStart:
     landing: str = "free"
     """Which optima ``x`` blends: ``free`` (the entries' own, free landing) or ``handover``
     (:attr:`Atlas.x_handover`, used for a handover problem when both entries have one)."""
+    period_ratio: float | None = None
+    """The given period over the entries' blended one, when ``warm`` blends the entries' optima
+    at other periods (:func:`load_periods`); None otherwise. ``x`` stays the entries' own blend:
+    a primal start alone from those optima took more iterations (docs/starts.md)."""
 
     def describe(self) -> dict:
-        return {"atlas_speeds": list(self.speeds), "atlas_weights": list(self.weights),
-                "atlas_preset": self.preset, "atlas_landing": self.landing}  # fmt: skip
+        out = {"atlas_speeds": list(self.speeds), "atlas_weights": list(self.weights),
+               "atlas_preset": self.preset, "atlas_landing": self.landing}  # fmt: skip
+        if self.period_ratio is not None:
+            out["atlas_period_ratio"] = round(self.period_ratio, 6)
+        return out
 
 
 def settings_key(settings: PredictionSettings) -> dict:
@@ -239,7 +247,8 @@ def candidates(
         if 0.0 < w < 1.0:
             found.append([(hi - 1, 1.0 - w), (hi, w)])
     found += [[(int(i), 1.0)] for i in near if abs(v - speeds[i]) <= MAX_EXTRAPOLATION]
-    return [_blend(atlas, pairs, ref.model.handover) for pairs in found[:tries]], None
+    period = None if ref.gait.free else ref.gait.period
+    return [_blend(atlas, pairs, ref.model.handover, period) for pairs in found[:tries]], None
 
 
 def warm_path(atlas_file: Path) -> Path:
@@ -264,34 +273,117 @@ def load_warm(atlas: Atlas) -> dict[str, np.ndarray] | None:
     return _read_warm(path, path.stat().st_mtime_ns) if path.is_file() else None
 
 
-def _warm_blend(atlas: Atlas, pairs: list[tuple[int, float]]) -> dict[str, np.ndarray] | None:
+_POINT = ("z", "lam_x", "lam_g")
+
+
+def _warm_blend(
+    atlas: Atlas, pairs: list[tuple[int, float]], ratio: float = 1.0
+) -> tuple[dict[str, np.ndarray] | None, bool]:
     """The blend of the warm points of ``pairs`` (atlas indices) when both have one for the
-    same stage rows: ``z``, ``lam_x``, ``lam_g`` (on those rows) and the ``rows``."""
+    same stage rows: ``z``, ``lam_x``, ``lam_g`` (on those rows) and the ``rows``; with a
+    period ``ratio`` ≠ 1, each entry's point is first blended between its optima at the
+    periods that bracket it (:func:`load_periods`). Also whether those were used."""
     warm = load_warm(atlas)
     if warm is None:
-        return None
+        return None, False
     at = [np.flatnonzero(np.isclose(warm["speeds"], atlas.speeds[i])) for i, _ in pairs]
     if not all(a.size == 1 for a in at):
-        return None
+        return None, False
     mask = warm["rows"][at[0][0]]
     if any(not np.array_equal(warm["rows"][a[0]], mask) for a in at):
+        return None, False
+    points = [{k: warm[k][a[0]] for k in _POINT} for a in at]
+    levels = load_periods(atlas) if abs(ratio - 1.0) > PERIOD_TOLERANCE else None
+    speeds = [atlas.speeds[i] for i, _ in pairs]
+    moved = (
+        [None]
+        if levels is None
+        else [_at_periods(levels, v, p, ratio) for v, p in zip(speeds, points, strict=True)]
+    )
+    used = all(p is not None for p in moved)
+    points = moved if used else points
+    out = {k: sum(wt * p[k] for p, (_, wt) in zip(points, pairs, strict=True)) for k in _POINT}
+    return out | {"lam_g": out["lam_g"][mask], "rows": np.flatnonzero(mask)}, used
+
+
+PERIOD_TOLERANCE = 1e-3
+"""A given period within this fraction of the entries' blended one starts from the entries'
+own optima (the default prediction's case: it is solved at the atlas's period)."""
+
+
+def periods_path(atlas_file: Path) -> Path:
+    """The entries' optima at other periods: ``<sex>-<preset>-periods.npz`` beside the file."""
+    return atlas_file.with_name(atlas_file.stem + "-periods.npz")
+
+
+@cache
+def _read_periods(path: Path, mtime_ns: int) -> dict[str, np.ndarray] | None:
+    try:
+        with np.load(path) as data:
+            return {k: data[k] for k in ("speeds", "factors", *_POINT)}
+    except (OSError, ValueError, KeyError):  # damaged or of another layout: not used
         return None
-    out = {k: sum(wt * warm[k][a[0]] for a, (_, wt) in zip(at, pairs, strict=True))
-           for k in ("z", "lam_x", "lam_g")}  # fmt: skip
-    return out | {"lam_g": out["lam_g"][mask], "rows": np.flatnonzero(mask)}
 
 
-def _blend(atlas: Atlas, pairs: list[tuple[int, float]], handover: bool = False) -> AtlasStart:
+def load_periods(atlas: Atlas) -> dict[str, np.ndarray] | None:
+    """The handover optima of each entry at its period and double support times each of
+    ``factors`` (:func:`walk3d.campaign.atlas.write_periods`): by entry (``speeds``)
+    and factor, the primal-dual points ``z``, ``lam_x`` and ``lam_g`` on all rows (NaN where a
+    solve failed), on the stage rows of the entry's own point; None without a readable file."""
+    return load_periods_file(periods_path(atlas.path))
+
+
+def load_periods_file(path: Path) -> dict[str, np.ndarray] | None:
+    """The contents of a periods file (:func:`load_periods`), or None without a readable one."""
+    return _read_periods(path, path.stat().st_mtime_ns) if path.is_file() else None
+
+
+def period_weights(factors: np.ndarray, ratio: float) -> list[tuple[int, float]]:
+    """Linear weights on ``factors`` (indices) for the period ``ratio``: the two factors that
+    bracket it, or the nearest end outside them (no extrapolation)."""
+    order = np.argsort(factors)
+    f = np.asarray(factors, dtype=float)[order]
+    r = float(np.clip(ratio, f[0], f[-1]))
+    hi = int(np.clip(np.searchsorted(f, r), 1, f.size - 1))
+    u = (r - f[hi - 1]) / (f[hi] - f[hi - 1])
+    return [(int(order[hi - 1]), 1.0 - u), (int(order[hi]), u)]
+
+
+def _at_periods(
+    levels: dict[str, np.ndarray], speed: float, own: dict[str, np.ndarray], ratio: float
+) -> dict[str, np.ndarray] | None:
+    """An entry's point at the period ``ratio``, blended from its own (factor 1) and its
+    points at ``levels``' factors; None when the entry has no finite points there."""
+    j = np.flatnonzero(np.isclose(levels["speeds"], speed))
+    if j.size != 1:
+        return None
+    pts = [own] + [{k: levels[k][j[0], m] for k in _POINT} for m in range(levels["factors"].size)]
+    factors = np.concatenate([[1.0], levels["factors"]])
+    wts = [(m, w) for m, w in period_weights(factors, ratio) if w > 0.0]
+    if not all(np.isfinite(pts[m][k]).all() for m, _ in wts for k in _POINT):
+        return None
+    return {k: sum(w * pts[m][k] for m, w in wts) for k in _POINT}
+
+
+def _blend(
+    atlas: Atlas, pairs: list[tuple[int, float]], handover: bool = False,
+    period: float | None = None,
+) -> AtlasStart:  # fmt: skip
+    """The start blending ``pairs`` (atlas index, weight); for a handover problem of a given
+    ``period`` (s, reference subject), the entries' optima nearest that period."""
+
     def blend(values: np.ndarray):
         return sum(wt * values[i] for i, wt in pairs)
 
-    xs, landing, warm = atlas.x, "free", None
+    xs, landing, warm, ratio = atlas.x, "free", None, None
     if handover and atlas.x_handover is not None:
         if all(np.isfinite(atlas.x_handover[i]).all() for i, _ in pairs):
             xs, landing = atlas.x_handover, "handover"
-            warm = _warm_blend(atlas, pairs)
+            r = 1.0 if period is None else period / float(blend(atlas.periods))
+            warm, used = _warm_blend(atlas, pairs, r)
+            ratio = r if used else None
     return AtlasStart(
-        x=np.asarray(blend(xs), dtype=float), landing=landing, warm=warm,
+        x=np.asarray(blend(xs), dtype=float), landing=landing, warm=warm, period_ratio=ratio,
         period=float(blend(atlas.periods)),
         double_support=float(blend(atlas.double_supports)),
         speeds=tuple(float(atlas.speeds[i]) for i, _ in pairs),

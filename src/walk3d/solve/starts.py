@@ -100,7 +100,10 @@ def solve_from_atlas(
             note(f"the atlas start did not converge: from its entry at {start.speeds[0]:.2f} m/s")
         warm = _usable_warm(solver, start.warm) if not (noise.any() or g.free) else None
         this = warm_stage(solver, stage, start.x + noise, scale, on_stage, s0, warm)
-        this.stages[-1].update(start="atlas", **start.describe())
+        info = start.describe()
+        if warm is None:  # the optima at other periods are used only with their multipliers
+            info.pop("atlas_period_ratio", None)
+        this.stages[-1].update(start="atlas", **info)
         outcome = this if outcome is None else merged(outcome, this, method)
         if this.converged:
             break
