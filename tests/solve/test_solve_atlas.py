@@ -453,16 +453,25 @@ def test_an_entry_optimum_at_another_period_is_feasible_there():
 
 
 @pytest.mark.solve
-def test_a_given_period_away_from_the_atlas_takes_fewer_iterations_from_its_optima(monkeypatch):
-    """Male, 1.5 m/s, T 1.02 s and Td 0.11 s given (0.7 % below the atlas's period, its rows):
-    from the entries' optima blended at that period in at least 4 fewer iterations than from
-    their own optima alone (negative control, which records no ratio), to the same optimum."""
+@pytest.mark.parametrize(
+    ("case", "ratio", "fewer"),
+    [((1.5, 1.02, 0.11, 72.0, 1.78, "male"), 0.993, 4),  # the entries' rows, 0.7 % below
+     ((1.7, 0.96, 0.10, 60.0, 1.72, "female"), 1.106, 10)],  # 10.6 % above: a half-way level
+)  # fmt: skip
+def test_a_given_period_away_from_the_atlas_takes_fewer_iterations_from_its_optima(
+    monkeypatch, case, ratio, fewer
+):
+    """T and Td given away from the atlas's period: from the entries' optima blended at that
+    period in at least ``fewer`` fewer iterations than from their own optima alone (negative
+    control, which records no ratio), to the same optimum."""
     import walk3d
     from walk3d.solve.solver import forget_solvers
 
+    v, t, td, mass, height, sex = case
+
     def run():
-        p = walk3d.predict(1.5, period=1.02, double_support=0.11, mass=72.0, height=1.78,
-                           sex="male", threads=1)  # fmt: skip
+        p = walk3d.predict(v, period=t, double_support=td, mass=mass, height=height, sex=sex,
+                           threads=1)  # fmt: skip
         forget_solvers()
         return p.summary
 
@@ -470,9 +479,9 @@ def test_a_given_period_away_from_the_atlas_takes_fewer_iterations_from_its_opti
     monkeypatch.setattr(atlas, "load_periods", lambda _a: None)
     slow = run()
     assert fast["converged"] and slow["converged"]
-    assert fast["stages"][-1]["atlas_period_ratio"] == pytest.approx(0.993, abs=0.002)
+    assert fast["stages"][-1]["atlas_period_ratio"] == pytest.approx(ratio, abs=0.002)
     assert "atlas_period_ratio" not in slow["stages"][-1]
-    assert fast["iterations"] + 4 <= slow["iterations"]
+    assert fast["iterations"] + fewer <= slow["iterations"]
     w = fast["objective"]["C_weighted"]["total"]
     assert w == pytest.approx(slow["objective"]["C_weighted"]["total"], rel=1e-5)
 
@@ -490,10 +499,10 @@ def test_optima_at_other_periods_need_the_entries_primal_dual_points(tmp_path):
 def test_write_periods_tries_the_own_point_a_neighbour_then_continuation_and_resumes(
     tmp_path, monkeypatch
 ):
-    """Which starts each level's solve gets, with a fake solve that fails from the 1.4 m/s
-    entry's own point at 1.1 T and from its neighbour's (so continuation through 1.05 T), and
-    that a second run solves only what is still NaN (negative control: a level that never
-    converges stays NaN and is tried again)."""
+    """Which starts each level's solve gets, with a fake solve that never converges at 1.1 T for
+    the 0.8 m/s entry (its own point, the neighbour's level, then from the half-way optimum), so
+    the half-way optimum is kept at 1.05; a second run solves only what is NaN (negative control:
+    a level that never converges at all stays NaN and is tried again)."""
     import walk3d.campaign.atlas as campaign_atlas
 
     _write(tmp_path, [0.6, 0.8])
@@ -503,11 +512,11 @@ def test_write_periods_tries_the_own_point_a_neighbour_then_continuation_and_res
     calls = []
 
     def fake(given, start, mask):
-        ratio = given.gait.period / (1.0 + given.gait.speed)
-        calls.append((given.gait.speed, round(ratio, 3), float(start["z"][0])))
-        if given.gait.speed == 0.8 and round(ratio, 3) == 1.1 and start["z"][0] != 8.0:
-            return None  # fails from the entry's own point and from the neighbour's level
-        value = 8.0 if round(ratio, 3) == 1.05 else 7.0
+        ratio = round(given.gait.period / (1.0 + given.gait.speed), 3)
+        calls.append((given.gait.speed, ratio, float(start["z"][0])))
+        if given.gait.speed == 0.8 and ratio == 1.1:
+            return None
+        value = 8.0 if ratio == 1.05 else 7.0
         return {k: np.full(start[k].shape, value) for k in ("z", "lam_x", "lam_g")}
 
     monkeypatch.setattr(campaign_atlas, "_period_point", fake)
@@ -516,14 +525,44 @@ def test_write_periods_tries_the_own_point_a_neighbour_then_continuation_and_res
                      (0.8, 1.1, 0.8), (0.8, 1.1, 7.0),  # own, then 0.6's level: both fail
                      (0.8, 1.05, 0.8), (0.8, 1.1, 8.0)]  # half-way, then from there  # fmt: skip
     levels = atlas.load_periods_file(atlas.periods_path(path))
-    assert np.isfinite(levels["z"]).all()
+    assert np.isfinite(levels["z"]).all() and levels["z"][1, 1, 0] == 8.0
+    np.testing.assert_allclose(levels["reached"], [[0.9, 1.1], [0.9, 1.05]])
     calls.clear()
     campaign_atlas.write_periods(path)
     assert calls == []  # all kept
     data = dict(np.load(atlas.periods_path(path)))
     data["z"][1, 1] = np.nan
+    data["reached"][1, 1] = np.nan
     np.savez(atlas.periods_path(path), **data)
     monkeypatch.setattr(campaign_atlas, "_period_point", lambda given, start, mask: None)
     campaign_atlas.write_periods(path)
     levels = atlas.load_periods_file(atlas.periods_path(path))
     assert np.isnan(levels["z"][1, 1]).all() and np.isfinite(levels["z"][0]).all()
+    assert np.isnan(levels["reached"][1, 1]) and levels["reached"][0, 1] == 1.1
+
+
+def test_a_level_kept_half_way_is_placed_at_the_factor_it_was_solved_at(tmp_path):
+    """A 1.1 T level solved only at 1.05 T: a given period 5 % above the entries' takes that
+    level alone; 2.5 % above, half of it (negative control: read as a 1.1 T level, the 5 % start
+    would be the half-and-half blend)."""
+    _write(tmp_path, [1.0, 1.2, 1.4])
+    path = atlas.atlas_path("male", "natural", tmp_path)
+    data = json.loads(path.read_text())
+    for e in data["entries"]:
+        e["x_handover"] = [0.0] * layout.N_X
+    path.write_text(json.dumps(data))
+    same = [True, False, True, True, False]
+    _write_warm(tmp_path, [1.2, 1.4], [same, same])
+    _write_periods(tmp_path, [1.2, 1.4])
+    p = atlas.periods_path(path)
+    levels = dict(np.load(p))
+    np.savez(p, **levels, reached=np.array([[0.9, 1.05], [0.9, 1.05]]))
+
+    def z(ratio):
+        ref = _ref(1.25, handover=True, free=(), period=2.25 * ratio)
+        return atlas.start_for(ref, tmp_path)[0].warm["z"]
+
+    np.testing.assert_allclose(z(1.05), 1.25 * 11.0)
+    np.testing.assert_allclose(z(1.025), 1.25 * (0.5 + 0.5 * 11.0))
+    np.savez(p, **levels)  # without ``reached``: at the nominal 1.1
+    np.testing.assert_allclose(z(1.05), 1.25 * (0.5 + 0.5 * 11.0))

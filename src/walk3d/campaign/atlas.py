@@ -285,7 +285,8 @@ def write_periods(
     :func:`walk3d.solve.atlas.periods_path`): for each entry of its warm file and each factor
     f, the handover problem at the entry's V, f T and f Td with IPOPT's warm start, first from
     the entry's own primal-dual point, then, where that failed, from the nearest speed's optimum
-    at the same f, then by continuation through (1 + f) / 2. A solve that does not converge
+    at the same f, then by continuation through (1 + f) / 2; where only the half-way solve
+    converges, its optimum is kept at that factor (``reached``). A solve that does not converge
     upright, or whose rows differ from the entry's, leaves NaN. Points already in a file of the
     same speeds and factors are kept (resumable). Returns the file written."""
     from walk3d.solve.atlas import load_warm, periods_path, read_atlas
@@ -318,12 +319,16 @@ def write_periods(
         point = None
         for start in [own] + [{key: out[key][j, m] for key in _POINT} for j in near]:
             point = point or _period_point(at(f), start, warm["rows"][n])
-        if point is None:  # continuation: half-way first, then from there
+        reached = f
+        if point is None:  # continuation: half-way first, then from there, else half-way
             half = _period_point(at((1.0 + f) / 2.0), own, warm["rows"][n])
             point = half and _period_point(at(f), half, warm["rows"][n])
+            if point is None and half is not None:
+                point, reached = half, (1.0 + f) / 2.0
         if point is not None:
             for key in _POINT:
                 out[key][n, m] = point[key]
+            out["reached"][n, m] = reached
     with atomic_path(target, suffix=".npz") as tmp:
         np.savez_compressed(tmp, speeds=speeds, factors=np.asarray(factors), **out)
     return target
@@ -335,11 +340,12 @@ def _kept_periods(target: Path, warm: dict, factors: tuple[float, ...]) -> dict[
 
     shape = (warm["speeds"].size, len(factors))
     out = {k: np.full((*shape, warm[k].shape[1]), np.nan) for k in _POINT}
+    out["reached"] = np.full(shape, np.nan)
     old = load_periods_file(target)
     if (old is not None and np.array_equal(old["speeds"], warm["speeds"])
             and np.allclose(old["factors"], factors)
             and all(old[k].shape == out[k].shape for k in _POINT)):  # fmt: skip
-        out = {k: np.array(old[k], dtype=float) for k in _POINT}
+        out = {k: np.array(old[k], dtype=float) for k in (*_POINT, "reached")}
     return out
 
 

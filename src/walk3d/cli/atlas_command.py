@@ -99,8 +99,17 @@ def show() -> None:
         warm, levels = load_warm(a), load_periods(a)
         other = "-" if levels is None else ", ".join(
             f"{f:g} T: {int(np.isfinite(levels['z'][:, m, 0]).sum())}"
+            + _half_way(levels["reached"][:, m], f)
             for m, f in enumerate(levels["factors"]))  # fmt: skip
         t.add_row(sex, preset, f"{a.speeds[0]:.2f}-{a.speeds[-1]:.2f}", str(len(a.speeds)),
                   f"{ho} ({0 if warm is None else warm['speeds'].size})", other,
                   str(a.solve_revision), "yes" if a.current else "no: rebuild")  # fmt: skip
     console.print(t)
+
+
+def _half_way(reached, factor: float) -> str:
+    """`` (k half-way)`` when k levels were kept at the half-way factor, else empty."""
+    import numpy as np
+
+    k = int((np.isfinite(reached) & ~np.isclose(reached, factor)).sum())
+    return f" ({k} half-way)" if k else ""

@@ -320,7 +320,10 @@ def periods_path(atlas_file: Path) -> Path:
 def _read_periods(path: Path, mtime_ns: int) -> dict[str, np.ndarray] | None:
     try:
         with np.load(path) as data:
-            return {k: data[k] for k in ("speeds", "factors", *_POINT)}
+            out = {k: data[k] for k in ("speeds", "factors", *_POINT)}
+            finite = np.isfinite(out["z"]).all(axis=2)
+            nominal = np.where(finite, out["factors"][None, :], np.nan)
+            return out | {"reached": data["reached"] if "reached" in data else nominal}
     except (OSError, ValueError, KeyError):  # damaged or of another layout: not used
         return None
 
@@ -329,7 +332,8 @@ def load_periods(atlas: Atlas) -> dict[str, np.ndarray] | None:
     """The handover optima of each entry at its period and double support times each of
     ``factors`` (:func:`walk3d.campaign.atlas.write_periods`): by entry (``speeds``)
     and factor, the primal-dual points ``z``, ``lam_x`` and ``lam_g`` on all rows (NaN where a
-    solve failed), on the stage rows of the entry's own point; None without a readable file."""
+    solve failed), on the stage rows of the entry's own point, and the factor each was solved at
+    (``reached``: the half-way factor where only that converged); None without a readable file."""
     return load_periods_file(periods_path(atlas.path))
 
 
@@ -353,12 +357,13 @@ def _at_periods(
     levels: dict[str, np.ndarray], speed: float, own: dict[str, np.ndarray], ratio: float
 ) -> dict[str, np.ndarray] | None:
     """An entry's point at the period ``ratio``, blended from its own (factor 1) and its
-    points at ``levels``' factors; None when the entry has no finite points there."""
+    points at the factors ``levels`` reached; None when the entry has no finite points there."""
     j = np.flatnonzero(np.isclose(levels["speeds"], speed))
     if j.size != 1:
         return None
     pts = [own] + [{k: levels[k][j[0], m] for k in _POINT} for m in range(levels["factors"].size)]
-    factors = np.concatenate([[1.0], levels["factors"]])
+    reached = levels["reached"][j[0]]
+    factors = np.concatenate([[1.0], np.where(np.isfinite(reached), reached, levels["factors"])])
     wts = [(m, w) for m, w in period_weights(factors, ratio) if w > 0.0]
     if not all(np.isfinite(pts[m][k]).all() for m, _ in wts for k in _POINT):
         return None
