@@ -302,15 +302,25 @@ def _write_warm(root, speeds, masks):
              lam_g=np.outer(speeds, np.arange(5.0)), rows=np.array(masks[:n]))  # fmt: skip
 
 
-def test_a_handover_start_blends_the_entries_primal_dual_points(tmp_path):
-    _write(tmp_path, [1.0, 1.2, 1.4])
-    path = atlas.atlas_path("male", "natural", tmp_path)
+def _with_handover(root, periods=True):
+    """An atlas of 1.0, 1.2 and 1.4 m/s, each with a handover optimum; 1.2 and 1.4 with warm
+    points and, with ``periods``, levels (``_write_periods``). Returns the atlas file."""
+    _write(root, [1.0, 1.2, 1.4])
+    path = atlas.atlas_path("male", "natural", root)
     data = json.loads(path.read_text())
     for e in data["entries"]:
         e["x_handover"] = [0.0] * layout.N_X
     path.write_text(json.dumps(data))
     same = [True, False, True, True, False]
-    _write_warm(tmp_path, [1.2, 1.4], [same, same])
+    _write_warm(root, [1.2, 1.4], [same, same])
+    if periods:
+        _write_periods(root, [1.2, 1.4])
+    return path
+
+
+def test_a_handover_start_blends_the_entries_primal_dual_points(tmp_path):
+    path = _with_handover(tmp_path, periods=False)
+    same = [True, False, True, True, False]
     start = atlas.start_for(_ref(1.25, handover=True), tmp_path)[0]
     np.testing.assert_allclose(start.warm["z"], 1.25)
     np.testing.assert_allclose(start.warm["lam_x"], -1.25)
@@ -390,16 +400,8 @@ def _write_periods(root, speeds, factors=(0.9, 1.1)):
 
 def test_a_given_period_blends_the_entries_optima_that_bracket_it(tmp_path):
     """T given 5 % above the blended entries' (2.25 s at 1.25 m/s in ``_write``): half of each
-    entry's own point and half of its point at 1.1 T; x follows the blended z."""
-    _write(tmp_path, [1.0, 1.2, 1.4])
-    path = atlas.atlas_path("male", "natural", tmp_path)
-    data = json.loads(path.read_text())
-    for e in data["entries"]:
-        e["x_handover"] = [0.0] * layout.N_X
-    path.write_text(json.dumps(data))
-    same = [True, False, True, True, False]
-    _write_warm(tmp_path, [1.2, 1.4], [same, same])
-    _write_periods(tmp_path, [1.2, 1.4])
+    entry's own point and half of its point at 1.1 T."""
+    path = _with_handover(tmp_path)
     start = atlas.start_for(_ref(1.25, handover=True, free=(), period=2.25 * 1.05), tmp_path)[0]
     expect = 1.25 * (0.5 + 0.5 * 11.0)
     np.testing.assert_allclose(start.warm["z"], expect)
@@ -545,15 +547,7 @@ def test_a_level_kept_half_way_is_placed_at_the_factor_it_was_solved_at(tmp_path
     """A 1.1 T level solved only at 1.05 T: a given period 5 % above the entries' takes that
     level alone; 2.5 % above, half of it (negative control: read as a 1.1 T level, the 5 % start
     would be the half-and-half blend)."""
-    _write(tmp_path, [1.0, 1.2, 1.4])
-    path = atlas.atlas_path("male", "natural", tmp_path)
-    data = json.loads(path.read_text())
-    for e in data["entries"]:
-        e["x_handover"] = [0.0] * layout.N_X
-    path.write_text(json.dumps(data))
-    same = [True, False, True, True, False]
-    _write_warm(tmp_path, [1.2, 1.4], [same, same])
-    _write_periods(tmp_path, [1.2, 1.4])
+    path = _with_handover(tmp_path)
     p = atlas.periods_path(path)
     levels = dict(np.load(p))
     np.savez(p, **levels, reached=np.array([[0.9, 1.05], [0.9, 1.05]]))
