@@ -32,7 +32,7 @@ from walk3d.io._atomic import atomic_path, atomic_write_text
 from walk3d.problem import descriptors, layout, similarity, terms
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import SOLVE_REVISION
-from walk3d.solve.atlas import ATLAS_DIR, FORMAT, atlas_path, settings_key
+from walk3d.solve.atlas import ATLAS_DIR, FORMAT, POINT_KEYS, atlas_path, settings_key
 
 __all__ = ["ATLAS_SPEEDS", "PERIOD_FACTORS", "add_handover", "atlas_settings", "build_atlas",
            "fingerprint", "write_atlas", "write_periods", "write_warm"]  # fmt: skip
@@ -273,7 +273,6 @@ speed lie within about ±10 % of walk3d's predicted ones (the five sets of
 ``benchmarks/one_solve.py``: −7.5 % to +10.6 %)."""
 PERIOD_MAX_ITER = 150
 """Iteration limit of one such solve from the entry's own primal-dual point (they took 35-60)."""
-_POINT = ("z", "lam_x", "lam_g")
 
 
 def write_periods(
@@ -312,21 +311,23 @@ def write_periods(
         def at(c: float, v: float = v, t: float = t, td: float = td) -> PredictionSettings:
             return base.replace(speed=v, period=t * c, double_support=td * c)
 
-        own = {key: warm[key][n] for key in _POINT}
+        own = {key: warm[key][n] for key in POINT_KEYS}
         near = [j for j in np.argsort(np.abs(speeds - v), kind="stable") if j != n
                 and np.isfinite(out["z"][j, m]).all()
                 and np.array_equal(warm["rows"][j], warm["rows"][n])][:1]  # fmt: skip
-        point = None
-        for start in [own] + [{key: out[key][j, m] for key in _POINT} for j in near]:
-            point = point or _period_point(at(f), start, warm["rows"][n])
+        rows = warm["rows"][n]
+        for start in [own] + [{key: out[key][j, m] for key in POINT_KEYS} for j in near]:
+            point = _period_point(at(f), start, rows)
+            if point is not None:
+                break
         reached = f
         if point is None:  # continuation: half-way first, then from there, else half-way
-            half = _period_point(at((1.0 + f) / 2.0), own, warm["rows"][n])
-            point = half and _period_point(at(f), half, warm["rows"][n])
+            half = _period_point(at((1.0 + f) / 2.0), own, rows)
+            point = half and _period_point(at(f), half, rows)
             if point is None and half is not None:
                 point, reached = half, (1.0 + f) / 2.0
         if point is not None:
-            for key in _POINT:
+            for key in POINT_KEYS:
                 out[key][n, m] = point[key]
             out["reached"][n, m] = reached
     with atomic_path(target, suffix=".npz") as tmp:
@@ -339,13 +340,13 @@ def _kept_periods(target: Path, warm: dict, factors: tuple[float, ...]) -> dict[
     from walk3d.solve.atlas import load_periods_file
 
     shape = (warm["speeds"].size, len(factors))
-    out = {k: np.full((*shape, warm[k].shape[1]), np.nan) for k in _POINT}
+    out = {k: np.full((*shape, warm[k].shape[1]), np.nan) for k in POINT_KEYS}
     out["reached"] = np.full(shape, np.nan)
     old = load_periods_file(target)
     if (old is not None and np.array_equal(old["speeds"], warm["speeds"])
             and np.allclose(old["factors"], factors)
-            and all(old[k].shape == out[k].shape for k in _POINT)):  # fmt: skip
-        out = {k: np.array(old[k], dtype=float) for k in (*_POINT, "reached")}
+            and all(old[k].shape == out[k].shape for k in POINT_KEYS)):  # fmt: skip
+        out = {k: np.array(old[k], dtype=float) for k in (*POINT_KEYS, "reached")}
     return out
 
 

@@ -31,8 +31,8 @@ from walk3d.problem.settings import OPT_IN, PredictionSettings
 from walk3d.solve.revision import SOLVE_REVISION
 
 __all__ = ["ATLAS_DIR", "FORMAT", "Atlas", "AtlasStart", "atlas_path", "candidates",
-           "load_atlas", "load_periods", "load_periods_file", "period_weights", "read_atlas",
-           "settings_key", "start_for"]  # fmt: skip
+           "load_atlas", "load_periods", "load_periods_file", "period_weights", "POINT_KEYS",
+           "read_atlas", "settings_key", "start_for"]  # fmt: skip
 
 ATLAS_DIR = Path(__file__).resolve().parent / "atlas_data"
 """Where the package's atlas files are (package data)."""
@@ -256,24 +256,33 @@ def warm_path(atlas_file: Path) -> Path:
     return atlas_file.with_name(atlas_file.stem + "-warm.npz")
 
 
+POINT_KEYS = ("z", "lam_x", "lam_g")
+"""The arrays of a primal-dual point: the NLP's variables and the multipliers of its bounds and
+rows."""
+
+
 @cache
-def _read_warm(path: Path, mtime_ns: int) -> dict[str, np.ndarray] | None:
+def _read_npz(path: Path, mtime_ns: int, keys: tuple[str, ...], optional: tuple[str, ...] = ()):
     try:
         with np.load(path) as data:
-            return {k: data[k] for k in ("speeds", "z", "lam_x", "lam_g", "rows")}
-    except (OSError, ValueError, KeyError):  # damaged or of another layout: no warm starts
+            return {k: data[k] for k in keys} | {k: data[k] for k in optional if k in data}
+    except (OSError, ValueError, KeyError):  # damaged or of another layout: not used
         return None
+
+
+def _load_npz(
+    path: Path, keys: tuple[str, ...], optional: tuple[str, ...] = ()
+) -> dict[str, np.ndarray] | None:
+    """The arrays ``keys`` (and those of ``optional`` it has) of the file ``path``, read once
+    per modification; None without a readable file holding them."""
+    return _read_npz(path, path.stat().st_mtime_ns, keys, optional) if path.is_file() else None
 
 
 def load_warm(atlas: Atlas) -> dict[str, np.ndarray] | None:
     """The primal-dual points of the entries' handover solves, or None without a readable file
     (:func:`walk3d.campaign.atlas.add_handover`): by entry (``speeds``), ``z``, ``lam_x``, and
     ``lam_g`` on all rows with the mask ``rows`` of those its stage solver kept."""
-    path = warm_path(atlas.path)
-    return _read_warm(path, path.stat().st_mtime_ns) if path.is_file() else None
-
-
-_POINT = ("z", "lam_x", "lam_g")
+    return _load_npz(warm_path(atlas.path), ("speeds", *POINT_KEYS, "rows"))
 
 
 def _warm_blend(
@@ -292,17 +301,14 @@ def _warm_blend(
     mask = warm["rows"][at[0][0]]
     if any(not np.array_equal(warm["rows"][a[0]], mask) for a in at):
         return None, False
-    points = [{k: warm[k][a[0]] for k in _POINT} for a in at]
+    points = [{k: warm[k][a[0]] for k in POINT_KEYS} for a in at]
     levels = load_periods(atlas) if abs(ratio - 1.0) > PERIOD_TOLERANCE else None
-    speeds = [atlas.speeds[i] for i, _ in pairs]
-    moved = (
-        [None]
-        if levels is None
-        else [_at_periods(levels, v, p, ratio) for v, p in zip(speeds, points, strict=True)]
-    )
-    used = all(p is not None for p in moved)
+    entries = zip(pairs, points, strict=True)
+    moved = [] if levels is None else [_at_periods(levels, atlas.speeds[i], p, ratio)
+                                       for (i, _), p in entries]  # fmt: skip
+    used = bool(moved) and all(p is not None for p in moved)
     points = moved if used else points
-    out = {k: sum(wt * p[k] for p, (_, wt) in zip(points, pairs, strict=True)) for k in _POINT}
+    out = {k: sum(wt * p[k] for p, (_, wt) in zip(points, pairs, strict=True)) for k in POINT_KEYS}
     return out | {"lam_g": out["lam_g"][mask], "rows": np.flatnonzero(mask)}, used
 
 
@@ -316,18 +322,6 @@ def periods_path(atlas_file: Path) -> Path:
     return atlas_file.with_name(atlas_file.stem + "-periods.npz")
 
 
-@cache
-def _read_periods(path: Path, mtime_ns: int) -> dict[str, np.ndarray] | None:
-    try:
-        with np.load(path) as data:
-            out = {k: data[k] for k in ("speeds", "factors", *_POINT)}
-            finite = np.isfinite(out["z"]).all(axis=2)
-            nominal = np.where(finite, out["factors"][None, :], np.nan)
-            return out | {"reached": data["reached"] if "reached" in data else nominal}
-    except (OSError, ValueError, KeyError):  # damaged or of another layout: not used
-        return None
-
-
 def load_periods(atlas: Atlas) -> dict[str, np.ndarray] | None:
     """The handover optima of each entry at its period and double support times each of
     ``factors`` (:func:`walk3d.campaign.atlas.write_periods`): by entry (``speeds``)
@@ -338,8 +332,13 @@ def load_periods(atlas: Atlas) -> dict[str, np.ndarray] | None:
 
 
 def load_periods_file(path: Path) -> dict[str, np.ndarray] | None:
-    """The contents of a periods file (:func:`load_periods`), or None without a readable one."""
-    return _read_periods(path, path.stat().st_mtime_ns) if path.is_file() else None
+    """The contents of a periods file (:func:`load_periods`), or None without a readable one;
+    a file without ``reached`` has each finite level at its nominal factor."""
+    out = _load_npz(path, ("speeds", "factors", *POINT_KEYS), optional=("reached",))
+    if out is None or "reached" in out:
+        return out
+    finite = np.isfinite(out["z"]).all(axis=2)
+    return out | {"reached": np.where(finite, out["factors"][None, :], np.nan)}
 
 
 def period_weights(factors: np.ndarray, ratio: float) -> list[tuple[int, float]]:
@@ -361,13 +360,15 @@ def _at_periods(
     j = np.flatnonzero(np.isclose(levels["speeds"], speed))
     if j.size != 1:
         return None
-    pts = [own] + [{k: levels[k][j[0], m] for k in _POINT} for m in range(levels["factors"].size)]
+    pts = [own] + [
+        {k: levels[k][j[0], m] for k in POINT_KEYS} for m in range(levels["factors"].size)
+    ]
     reached = levels["reached"][j[0]]
     factors = np.concatenate([[1.0], np.where(np.isfinite(reached), reached, levels["factors"])])
     wts = [(m, w) for m, w in period_weights(factors, ratio) if w > 0.0]
-    if not all(np.isfinite(pts[m][k]).all() for m, _ in wts for k in _POINT):
+    if not all(np.isfinite(pts[m][k]).all() for m, _ in wts for k in POINT_KEYS):
         return None
-    return {k: sum(w * pts[m][k] for m, w in wts) for k in _POINT}
+    return {k: sum(w * pts[m][k] for m, w in wts) for k in POINT_KEYS}
 
 
 def _blend(
