@@ -7,11 +7,13 @@ start to exit) on five descriptor sets of both sexes at 0.9-1.7 m/s, each with T
 predicted (``--descriptors-from atlas``, the default: one solve; ``solve``: the free landing
 solved first, then the handover) and with T and Td given (one solve either way). The model
 cache is warm (a first run fills it and is not counted), runs go one at a time, with
-``OPENBLAS_NUM_THREADS=1``. Nothing is compiled, unless ``--compile``: then ``walk3d compile``
-runs for both sexes after the cache is filled (timed), and the runs use the compiled
-derivatives. Records per run: wall time, exit code, convergence, iterations, the predicted T
-and Td, ``looks_like_walking`` and whether the derivatives were compiled; and the medians per
-mode.
+``OPENBLAS_NUM_THREADS=1``. Nothing is compiled (``WALK3D_COMPILE_LATER=0``), unless
+``--compile``: then ``walk3d compile`` runs for both sexes after the cache is filled (timed),
+and the runs use the compiled derivatives; or ``--compile-later``, ``walk3d predict``'s
+default: each sex's cache-filling run starts the background compile, which is waited for
+(timed from the end of that run). Records per run: wall time, exit code, convergence,
+iterations, the predicted T and Td, ``looks_like_walking`` and whether the derivatives were
+compiled; and the medians per mode.
 
 **realism**: the shared sources of ``benchmarks/criteria_sweep.py`` (Falisse, Winter,
 subject01; skipped when ``../shared/data`` is absent), each predicted with T and Td from the
@@ -49,8 +51,11 @@ SETS = {
 }
 
 
-def run(out: Path, args: list[str], cache: Path) -> dict:
-    env = dict(os.environ, WALK3D_CACHE_DIR=str(cache), OPENBLAS_NUM_THREADS="1")
+def run(out: Path, args: list[str], cache: Path, later: bool = False) -> dict:
+    """``walk3d predict`` timed end to end; ``later``: with its background compile (off:
+    ``WALK3D_COMPILE_LATER=0``, nothing compiled)."""
+    env = dict(os.environ, WALK3D_CACHE_DIR=str(cache), OPENBLAS_NUM_THREADS="1",
+               WALK3D_COMPILE_LATER="1" if later else "0")  # fmt: skip
     cmd = [sys.executable, "-m", "walk3d.cli", "predict", "--out", str(out), *args]
     t0 = time.perf_counter()
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
@@ -126,6 +131,12 @@ def main(argv: list[str] | None = None) -> int:
         action="store_true",
         help="run `walk3d compile` for both sexes after filling the cache (timed)",
     )
+    ap.add_argument(
+        "--compile-later",
+        action="store_true",
+        help="the default path: the cache-filling runs start walk3d predict's background "
+        "compile, which is waited for (timed) before the sets run",
+    )
     environment.add_output_arguments(ap, NAME)
     args = ap.parse_args(argv)
     rows, real, compile_s = [], [], {}
@@ -137,7 +148,11 @@ def main(argv: list[str] | None = None) -> int:
         if "timing" not in args.parts:
             args.modes = []
         for sex in ("female", "male") if args.modes else ():  # fill the cache: not counted
-            run(root / f"fill-{sex}", ["--sex", sex], cache)
+            fill = run(root / f"fill-{sex}", ["--sex", sex], cache, args.compile_later)
+            if args.compile_later:
+                waited = environment.wait_for_background_compile(cache)
+                compile_s[sex] = {"fill": fill, "background_compile_waited_s": waited}
+                print(f"background compile, {sex}: {compile_s[sex]}", flush=True)
             if args.compile:
                 compile_s[sex] = compile_for(sex, cache)
                 print(f"walk3d compile --sex {sex}: {compile_s[sex]}", flush=True)
@@ -147,7 +162,7 @@ def main(argv: list[str] | None = None) -> int:
                 extra = (["--period", str(t), "--double-support", str(td)] if mode == "given"
                          else ["--descriptors-from", mode])  # fmt: skip
                 row = {"set": name, "mode": mode, **run(root / f"{name}-{mode}", common + extra,
-                                                         cache)}  # fmt: skip
+                                                         cache, args.compile_later)}  # fmt: skip
                 rows.append(row)
                 print(json.dumps(row), flush=True)
     medians = {m: statistics.median(r["wall_s"] for r in rows if r["mode"] == m)

@@ -8,6 +8,8 @@ import numpy as np
 import pytest
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+# no test starts a background compile (walk3d.cli.background) unless it asks for one
+os.environ["WALK3D_COMPILE_LATER"] = "0"
 
 from walk3d.body.model import build_body  # noqa: E402
 from walk3d.kinematics import fourier  # noqa: E402

@@ -16,6 +16,7 @@ from walk3d.cli.common import (
     EXIT_WRITE,
     SOLVER,
     CalibrationFile,
+    CompileLater,
     Criterion,
     DescriptorsFrom,
     DoubleSupport,
@@ -188,6 +189,7 @@ def predict(
     leg_length: LegLength = None,
     full_cycle: FullCycle = False,
     equal_steps: EqualSteps = False,
+    compile_later: CompileLater = True,
 ) -> None:
     """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot,
     summary.png (and animation.mp4 with --animate) and, last, report.html. Exit code 0 if the
@@ -252,9 +254,12 @@ def predict(
     t.add_row("start", start_text(s))
     t.add_row("descriptors", descriptor_text(s["descriptors"]))
     if solver == "ipopt":
+        from walk3d.cli import background
+
         comp = s.get("compiled_derivatives") or []
+        later = background.start(settings, comp, compile_later)
         t.add_row("derivatives", f"compiled C ({', '.join(comp)})" if comp else
-                  f"CasADi VM ({compile_hint(settings)})")  # fmt: skip
+                  f"CasADi VM ({later or compile_hint(settings)})")  # fmt: skip
         t.add_row("linear algebra", f"{settings.solver.linear_solver.upper()} on {s['blas']}")
     objective_rows(t, s["objective"], settings.model.criterion)
     t.add_row(

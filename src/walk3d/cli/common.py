@@ -188,6 +188,16 @@ CalibrationFile = Annotated[
         rich_help_panel=MODEL,
     ),
 ]
+CompileLater = Annotated[
+    bool,
+    typer.Option(
+        "--compile-later/--no-compile-later",
+        help="After a solve in CasADi's VM, compile this model's derivatives in the background "
+        "(about 3 min, low priority) so that later predictions solve about twice as fast; "
+        "also off with WALK3D_COMPILE_LATER=0.",
+        rich_help_panel=SOLVER,
+    ),
+]
 
 
 EXIT_WRITE = 3

@@ -9,6 +9,8 @@ and criterion (any mass and stature: :mod:`walk3d.problem.similarity`), finds th
 
 from __future__ import annotations
 
+import time
+
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
@@ -34,6 +36,7 @@ def compile_with_progress(settings: PredictionSettings, console: Console) -> Non
         compiled.require_compiler()  # before any model work
     except compiled.CompileError as exc:
         fail(f"walk3d compile: {exc}")
+    _wait_for_background(settings, console)
     missing = compiled_status(settings)["missing"]
     if not missing:
         console.print("walk3d compile: already compiled (model cache)")
@@ -50,7 +53,24 @@ def compile_with_progress(settings: PredictionSettings, console: Console) -> Non
             info = compile_solver(settings, on_done=done)
         except compiled.CompileError as exc:
             fail(f"walk3d compile: {exc}")
+    from walk3d.cli import background
+
+    background.paths(background.target_id(settings))["failed"].unlink(missing_ok=True)
     console.print(
         f"walk3d compile: {info['compiled']} libraries in {info['wall_time_s']:.0f} s, "
         f"kept in {compiled.cache_dir()}"
     )
+
+
+def _wait_for_background(settings: PredictionSettings, console: Console) -> None:
+    """Wait for a background compile of the same model (:mod:`walk3d.cli.background`), if one
+    runs: it makes the same libraries."""
+    from walk3d.cli import background
+
+    lock = background.paths(background.target_id(settings))["lock"]
+    pid = background.running(lock)
+    if pid is None:
+        return
+    with console.status(f"walk3d compile: waiting for the background compile (process {pid})"):
+        while background.running(lock) is not None:
+            time.sleep(1.0)
