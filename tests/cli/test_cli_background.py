@@ -52,7 +52,7 @@ def test_no_compile_when_compiled_off_or_without_a_compiler(spawned, monkeypatch
 def test_a_running_or_failed_compile_is_not_started_again_and_a_stale_lock_is(spawned):
     p = background.paths(background.target_id(SETTINGS))
     p["lock"].write_text(str(os.getpid()))  # alive
-    assert "already" in background.start(SETTINGS, [])
+    assert "is running" in background.start(SETTINGS, [])
     assert spawned == []
     dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
                           capture_output=True, text=True).stdout.strip()  # fmt: skip

@@ -86,7 +86,7 @@ def start(settings: PredictionSettings, compiled_kinds: list[str], flag: bool = 
     if p["failed"].is_file():
         return f"the background compile failed ({p['log']}); `walk3d compile` shows why"
     if running(p["lock"]) is not None:
-        return "compiling in the background already, for later predictions"
+        return "a background compile for later predictions is running"
     try:
         p["json"].parent.mkdir(parents=True, exist_ok=True)
         atomic_write_text(p["json"], settings.model_dump_json())
@@ -94,8 +94,8 @@ def start(settings: PredictionSettings, compiled_kinds: list[str], flag: bool = 
             _spawn([sys.executable, "-m", "walk3d.cli.background", str(p["json"])], log)
     except OSError:  # no background compile; the prediction itself is done
         return None
-    return (f"compiling in the background for later predictions (about 3 minutes, low priority; "
-            f"--no-compile-later turns it off; log {p['log']})")  # fmt: skip
+    return (f"compiling in the background for later predictions, about 3 minutes at low "
+            f"priority (log {p['log']}; --no-compile-later turns it off)")  # fmt: skip
 
 
 def _spawn(cmd: list[str], log) -> None:

@@ -258,8 +258,8 @@ def predict(
 
         comp = s.get("compiled_derivatives") or []
         later = background.start(settings, comp, compile_later)
-        t.add_row("derivatives", f"compiled C ({', '.join(comp)})" if comp else
-                  f"CasADi VM ({later or compile_hint(settings)})")  # fmt: skip
+        vm = f"CasADi VM; {later}" if later else f"CasADi VM ({compile_hint(settings)})"
+        t.add_row("derivatives", f"compiled C ({', '.join(comp)})" if comp else vm)
         t.add_row("linear algebra", f"{settings.solver.linear_solver.upper()} on {s['blas']}")
     objective_rows(t, s["objective"], settings.model.criterion)
     t.add_row(
