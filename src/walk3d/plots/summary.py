@@ -101,7 +101,7 @@ def _bilateral(ax: Axes, pred: Prediction, x: np.ndarray, title: str, base: str)
         name = f"{base}_{side}"
         if name in pred.dof_names:
             ax.plot(x, np.degrees(pred.dof(name)), **style)
-    ax.set_title(title, fontsize=9)
+    ax.set_title(title, fontsize=9, y=1.0)
     ax.set_ylabel("deg", fontsize=8)
 
 
@@ -115,7 +115,7 @@ def _trunk(ax: Axes, pred: Prediction, x: np.ndarray) -> None:
     ):
         if name in pred.dof_names:
             ax.plot(x, np.degrees(pred.dof(name)), color=color, linestyle="--", label=name)
-    ax.set_title("Pelvis (global) and lumbar", fontsize=9)
+    ax.set_title("Pelvis (global) and lumbar", fontsize=9, y=1.0)
     ax.set_ylabel("deg", fontsize=8)
     ax.legend(fontsize=6, ncol=2, loc="best")
 
@@ -125,7 +125,7 @@ def _grf(ax: Axes, pred: Prediction, x: np.ndarray, title: str, axis: int) -> No
     scale = 1.0 / mass if mass > 0 else 1.0
     for k, style in enumerate((_RIGHT, _LEFT)):
         ax.plot(x, pred.grf_force[:, k, axis] * scale, **style)
-    ax.set_title(title, fontsize=9)
+    ax.set_title(title, fontsize=9, y=1.0)
     ax.set_ylabel("N/kg" if mass > 0 else "N", fontsize=8)
     if axis == 1 and mass > 0:
         ax.axhline(G, color="0.6", linewidth=0.8, linestyle=":")
