@@ -41,7 +41,7 @@ from pathlib import Path
 
 # a benchmark's walk3d predict runs start no background compile unless it asks for one
 # (walk3d.cli.background): that would change what the later runs measure
-os.environ.setdefault("WALK3D_COMPILE_LATER", "0")
+os.environ["WALK3D_COMPILE_LATER"] = "0"
 
 KEY = "environment"
 HERE = Path(__file__).resolve().parent
@@ -217,10 +217,15 @@ def write(path: Path, result: dict) -> None:
     tmp.replace(path)
 
 
-def wait_for_background_compile(cache: Path, timeout_s: float = 3600.0) -> float:
+def wait_for_background_compile(cache: Path, timeout_s: float = 1800.0) -> float | None:
     """Wait until no background compile (``walk3d.cli.background``) of the model cache
-    ``cache`` is pending (no ``compile-*.json`` left); the seconds waited."""
+    ``cache`` is pending or running (no ``compile-*.json`` left, ``compile.lock`` free); the
+    seconds waited, or None after ``timeout_s``."""
+    from walk3d.cli.background import running
+
     t0 = time.perf_counter()
-    while any(cache.glob("compile-*.json")) and time.perf_counter() - t0 < timeout_s:
+    while any(cache.glob("compile-*.json")) or running(cache / "compile.lock"):
+        if time.perf_counter() - t0 > timeout_s:
+            return None
         time.sleep(1.0)
     return round(time.perf_counter() - t0, 1)

@@ -8,6 +8,7 @@ import sys
 from typing import Annotated
 
 import typer
+from rich.markup import escape
 from rich.table import Table
 
 from walk3d.cli import changes as what_if
@@ -257,8 +258,11 @@ def predict(
         from walk3d.cli import background
 
         comp = s.get("compiled_derivatives") or []
-        later = background.start(settings, comp, compile_later)
-        vm = f"CasADi VM; {later}" if later else f"CasADi VM ({compile_hint(settings)})"
+        try:  # the prediction is done: nothing here may fail it
+            later = background.start(settings, comp, compile_later)
+        except Exception:  # noqa: BLE001
+            later = None
+        vm = f"CasADi VM; {escape(later)}" if later else f"CasADi VM ({compile_hint(settings)})"
         t.add_row("derivatives", f"compiled C ({', '.join(comp)})" if comp else vm)
         t.add_row("linear algebra", f"{settings.solver.linear_solver.upper()} on {s['blas']}")
     objective_rows(t, s["objective"], settings.model.criterion)

@@ -9,7 +9,7 @@ and criterion (any mass and stature: :mod:`walk3d.problem.similarity`), finds th
 
 from __future__ import annotations
 
-import time
+from contextlib import ExitStack
 
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
@@ -31,16 +31,35 @@ def worth_compiling(starts: int) -> bool:
 
 def compile_with_progress(settings: PredictionSettings, console: Console) -> None:
     """Compile (or find compiled) the derivatives of ``settings``, with a progress bar; a
-    missing or failing compiler ends the command with one line and exit code 2."""
+    missing or failing compiler ends the command with one line and exit code 2. Holds the
+    background compile's lock (:mod:`walk3d.cli.background`), waiting for a running one."""
+    from walk3d.cli import background
+
     try:
         compiled.require_compiler()  # before any model work
     except compiled.CompileError as exc:
         fail(f"walk3d compile: {exc}")
-    _wait_for_background(settings, console)
+    lock = background.lock_path()
+    with ExitStack() as stack:
+        if background.running(lock):
+            with console.status("walk3d compile: waiting for the background compile"):
+                stack.enter_context(background.hold(lock, wait=True))
+        else:
+            stack.enter_context(background.hold(lock, wait=True))
+        info = _compile(settings, console)
+    background.clear_failed()
+    console.print(
+        "walk3d compile: already compiled (model cache)" if info is None else
+        f"walk3d compile: {info['compiled']} libraries in {info['wall_time_s']:.0f} s, "
+        f"kept in {compiled.cache_dir()}"
+    )  # fmt: skip
+
+
+def _compile(settings: PredictionSettings, console: Console) -> dict | None:
+    """The compile with a progress bar; None when there was nothing to compile."""
     missing = compiled_status(settings)["missing"]
     if not missing:
-        console.print("walk3d compile: already compiled (model cache)")
-        return
+        return None
     columns = (TextColumn("compiling derivatives to C"), BarColumn(), MofNCompleteColumn(),
                TimeElapsedColumn(), TextColumn("{task.description}"))  # fmt: skip
     with Progress(*columns, console=console, transient=True) as bar:
@@ -50,27 +69,6 @@ def compile_with_progress(settings: PredictionSettings, console: Console) -> Non
             bar.update(task, advance=1, description=name)
 
         try:
-            info = compile_solver(settings, on_done=done)
+            return compile_solver(settings, on_done=done)
         except compiled.CompileError as exc:
             fail(f"walk3d compile: {exc}")
-    from walk3d.cli import background
-
-    background.paths(background.target_id(settings))["failed"].unlink(missing_ok=True)
-    console.print(
-        f"walk3d compile: {info['compiled']} libraries in {info['wall_time_s']:.0f} s, "
-        f"kept in {compiled.cache_dir()}"
-    )
-
-
-def _wait_for_background(settings: PredictionSettings, console: Console) -> None:
-    """Wait for a background compile of the same model (:mod:`walk3d.cli.background`), if one
-    runs: it makes the same libraries."""
-    from walk3d.cli import background
-
-    lock = background.paths(background.target_id(settings))["lock"]
-    pid = background.running(lock)
-    if pid is None:
-        return
-    with console.status(f"walk3d compile: waiting for the background compile (process {pid})"):
-        while background.running(lock) is not None:
-            time.sleep(1.0)
