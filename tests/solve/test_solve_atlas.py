@@ -492,36 +492,6 @@ def test_a_given_period_away_from_the_atlas_takes_fewer_iterations_from_its_opti
     assert w == pytest.approx(slow["objective"]["C_weighted"]["total"], rel=1e-5)
 
 
-@pytest.mark.solve
-def test_a_given_grid_with_other_rows_starts_from_the_entries_multipliers(monkeypatch):
-    """The woman at 0.9 m/s with T 1.22 s and Td 0.17 s given: 5 double-support nodes against
-    the entries' 4. With the entries' multipliers moved onto her rows, at least 5 fewer
-    iterations than from the primal start alone (negative control), to the same optimum."""
-    import walk3d
-    from walk3d.solve.solver import forget_solvers
-
-    def run():
-        p = walk3d.predict(0.9, period=1.22, double_support=0.17, mass=55.0, height=1.60,
-                           sex="female", threads=1)  # fmt: skip
-        forget_solvers()
-        return p.summary
-
-    moved = run()
-    usable = starts._usable_warm
-    same_rows = lambda solver, warm: (  # noqa: E731 (the rule before the multipliers moved)
-        warm if warm is not None and np.array_equal(warm["rows"], solver.stage_rows["full"])
-        else None)  # fmt: skip
-    monkeypatch.setattr(starts, "_usable_warm", same_rows)
-    primal = run()
-    monkeypatch.setattr(starts, "_usable_warm", usable)
-    assert moved["converged"] and primal["converged"]
-    assert "atlas_period_ratio" in moved["stages"][-1]
-    assert "atlas_period_ratio" not in primal["stages"][-1]
-    assert moved["iterations"] + 5 <= primal["iterations"]
-    w = moved["objective"]["C_weighted"]["total"]
-    assert w == pytest.approx(primal["objective"]["C_weighted"]["total"], rel=1e-5)
-
-
 def test_optima_at_other_periods_need_the_entries_primal_dual_points(tmp_path):
     from walk3d.campaign.atlas import write_periods
 
