@@ -66,18 +66,11 @@ def atlas_noise(seed: int, perturbation: float) -> np.ndarray:
 
 
 def _usable_warm(solver, warm: dict | None) -> dict | None:
-    """``warm`` (an atlas start's primal-dual point) on this solver's full NLP: the same
-    variables, and the multipliers moved onto its stage rows, zero on rows the entries' grid
-    lacks (a given grid's double-support nodes follow Td / T; docs/starts.md); None if the
-    variables differ."""
+    """``warm`` (an atlas start's primal-dual point) if it fits this solver's full NLP: the same
+    variables and stage rows (the double-support nodes of a given grid follow Td / T)."""
     if warm is None or warm["z"].size != solver.stage_bounds("full").lbz.size:
         return None
-    rows = np.asarray(solver.stage_rows["full"])
-    if np.array_equal(warm["rows"], rows):
-        return warm
-    lam = np.zeros(int(max(rows.max(initial=-1), np.max(warm["rows"], initial=-1))) + 1)
-    lam[warm["rows"]] = warm["lam_g"]
-    return warm | {"lam_g": lam[rows], "rows": rows}
+    return warm if np.array_equal(warm["rows"], solver.stage_rows["full"]) else None
 
 
 def solve_from_atlas(
