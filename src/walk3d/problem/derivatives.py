@@ -19,7 +19,6 @@ The values equal CasADi's own derivatives (``tests/problem/test_problem_derivati
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import casadi as ca
@@ -165,18 +164,17 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     v0 = z[cols[0].tolist()]
     vr = ca.reshape(z[np.concatenate(cols[1:]).tolist()], N_V, n - 1)
     same = pc.node0 is pc.node
-    with ThreadPoolExecutor(1) as pool:  # node 0's derivatives beside the others' (no GIL)
-        first = None if same or pc.node0_derivs else pool.submit(node_derivatives, pc.node0,
-                                                                 pc.crit)  # fmt: skip
-        jn, dn, hn = pc.node_derivs or node_derivatives(pc.node, pc.crit)
-        h_one = assemble(hn, "walk3d_node_hess") if isinstance(hn, list) else hn  # one node
-        if same:
-            j0, d0, h0 = jn, dn, h_one
-        elif pc.node0_derivs is not None:
-            j0, d0, h0 = pc.node0_derivs
-            h0 = assemble(h0, "walk3d_node0_hess") if isinstance(h0, list) else h0
-        else:
-            j0, d0, h0 = first.result()
+    # one thread: CasADi's symbolic operations are not thread-safe (two Hessians built at once
+    # crashed; docs/solver.md, "Symbolics in one thread")
+    jn, dn, hn = pc.node_derivs or node_derivatives(pc.node, pc.crit)
+    h_one = assemble(hn, "walk3d_node_hess") if isinstance(hn, list) else hn  # one node
+    if same:
+        j0, d0, h0 = jn, dn, h_one
+    elif pc.node0_derivs is not None:
+        j0, d0, h0 = pc.node0_derivs
+        h0 = assemble(h0, "walk3d_node0_hess") if isinstance(h0, list) else h0
+    else:
+        j0, d0, h0 = node_derivatives(pc.node0, pc.crit)
     params = pc.params if isinstance(pc.params, ca.MX) else ca.DM(pc.params)
     pr, p0 = params[:, 1:], params[:, 0]
 

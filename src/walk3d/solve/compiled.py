@@ -32,7 +32,7 @@ import shutil
 import subprocess
 import tempfile
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 
 import casadi as ca
@@ -147,10 +147,11 @@ def build_library(
         os.replace(lib, path)
 
 
-def _compile_one(fn: ca.Function, path: Path, cc: list[str], cflags: tuple[str, ...]) -> None:
+def _c_source(fn: ca.Function) -> str:
+    """The C of ``fn`` (CasADi's code generator; in the calling thread, as every symbolic step)."""
     gen = ca.CodeGenerator(f"{fn.name()}.c", {"with_header": False})
     gen.add(fn)
-    build_library(path, f"{fn.name()}.c", gen.dump(), cc, [*cflags, "-fPIC"], ["-lm"])
+    return gen.dump()
 
 
 def compile_functions(
@@ -159,19 +160,34 @@ def compile_functions(
     jobs: int | None = None,
     on_done: Callable[[str, int, int], None] | None = None,
 ) -> dict[str, ca.Function]:
-    """Compile the functions not yet stored under ``key`` (``jobs`` at a time, default one
-    per core) and load all of them. ``on_done(name, done, total)`` after each compile.
-    Raises :class:`CompileError` without a compiler or when one fails."""
+    """Compile the functions not yet stored under ``key`` (``jobs`` compilers at a time,
+    default one per core) and load all of them. ``on_done(name, done, total)`` after each
+    compile. The C is generated here, one function at a time while the compilers run: CasADi's
+    symbolic operations are not thread-safe. Raises :class:`CompileError` without a compiler
+    or when one fails."""
     cc = require_compiler()
-    cflags = flags()
+    cflags = (*flags(), "-fPIC")
     todo = [n for n in functions if load_functions(key, [n]) is None]
-    with ThreadPoolExecutor(jobs or os.cpu_count() or 1) as pool:
-        futures = {n: pool.submit(_compile_one, functions[n], _library(key, n), cc, cflags)
-                   for n in todo}  # fmt: skip
-        for done, (name, fut) in enumerate(futures.items(), 1):
-            fut.result()
-            if on_done:
-                on_done(name, done, len(todo))
+    width = jobs or os.cpu_count() or 1
+    pending: dict[str, Future] = {}
+    finished = 0
+
+    def collect(name: str) -> None:
+        nonlocal finished
+        pending.pop(name).result()
+        finished += 1
+        if on_done:
+            on_done(name, finished, len(todo))
+
+    with ThreadPoolExecutor(width) as pool:
+        for name in todo:
+            while len(pending) >= width:  # at most ``width`` sources in memory at once
+                collect(next(iter(pending)))
+            source = _c_source(functions[name])
+            pending[name] = pool.submit(build_library, _library(key, name), f"{name}.c", source,
+                                        cc, list(cflags), ["-lm"])  # fmt: skip
+        while pending:
+            collect(next(iter(pending)))
     loaded = load_functions(key, list(functions))
     if loaded is None:
         raise CompileError(f"compiled functions for {key} did not load")
