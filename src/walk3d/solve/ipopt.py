@@ -248,7 +248,6 @@ def solve_descriptors(
     ref, scale = similarity.reference_problem(settings)
     solver = build_solver(ref, method)
     stage = descriptor_stage(ref)
-    solver.prepare(stage)  # built while the given problem solves
     first = solve_stages(fixed, seed, method, on_stage)
     if first.converged:
         free = warm_stage(solver, stage, first.z[: layout.N_X], scale, on_stage)
@@ -351,9 +350,7 @@ def solve_stages(
         else:
             z0 = ends[stage.start]
         note(stage.title)
-        fn = solver.stage(stage)
-        if stage.on_success != END:
-            solver.prepare(stage.on_success)  # built while this stage solves
+        fn = solver.stage(stage)  # the next stage is built when asked for: symbolics in one thread
         listener = _listener(on_stage, stage)
         stop = (lambda it, _f, viol: stage.stops(it, viol)) if stage.checks else None
         ends["previous"], record, _ = _run(fn, solver, z0, stage.name, stage.problem, listener,

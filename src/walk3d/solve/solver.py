@@ -66,10 +66,8 @@ class Solver:
     """The NLP of one settings: bounds and lifting maps at once, stage solvers on first use.
 
     Building a stage's exact derivatives is most of a build, so a stage solver is built when
-    first asked for (:meth:`stage`), and :meth:`prepare` builds stages in a background thread
-    while another stage solves (CasADi releases the GIL). Stages of one NLP and iteration limit
-    share a solver; a solve builds the stages it runs and, in the background, the stage that
-    follows each one on success.
+    first asked for (:meth:`stage`); stages of one NLP and iteration limit share a solver, and a
+    solve builds only the stages it runs.
     """
 
     settings: PredictionSettings
@@ -188,7 +186,8 @@ class Solver:
             return self._built[key]  # type: ignore[return-value]
 
     def prepare(self, *stages: Stage | str) -> threading.Thread:
-        """Build ``stages`` (stages or plan keys) in a background thread (started, returned)."""
+        """Build ``stages`` (stages or plan keys) in a background thread (started, returned);
+        only while no other thread uses CasADi, whose symbolics are not thread-safe."""
         try:
             todo = [self._stage(s) for s in stages]
         except KeyError as exc:
