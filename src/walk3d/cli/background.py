@@ -36,7 +36,6 @@ from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import compiled, model_cache
 
 ENV_LATER = "WALK3D_COMPILE_LATER"
-_OFF = {"0", "false", "no", "off"}
 NICE = 19
 """Priority increment of the compile: it yields the cores to the user's own work."""
 JOBS = 2
@@ -48,7 +47,7 @@ POSIX = os.name == "posix"
 def later_enabled(flag: bool = True) -> bool:
     """Whether a VM prediction starts a background compile: ``flag`` (``--compile-later``),
     ``$WALK3D_COMPILE_LATER`` not off, and a POSIX system."""
-    return flag and POSIX and os.environ.get(ENV_LATER, "1").strip().lower() not in _OFF
+    return flag and POSIX and model_cache.switched_on(ENV_LATER)
 
 
 def target_id(settings: PredictionSettings) -> str:

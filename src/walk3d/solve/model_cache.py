@@ -59,11 +59,14 @@ _OFF = {"0", "false", "no", "off"}
 log = logging.getLogger(__name__)
 
 
+def switched_on(name: str) -> bool:
+    """Whether the environment switch ``$name`` is on: unset, or any value but 0, false, no, off."""
+    return os.environ.get(name, "1").strip().lower() not in _OFF
+
+
 def cache_enabled(flag: bool | None = None) -> bool:
     """``flag`` if given, else whether ``$WALK3D_CACHE`` leaves the cache on (the default)."""
-    if flag is not None:
-        return flag
-    return os.environ.get(ENV_SWITCH, "1").strip().lower() not in _OFF
+    return flag if flag is not None else switched_on(ENV_SWITCH)
 
 
 def cache_dir() -> Path:
