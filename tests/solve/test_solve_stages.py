@@ -1,7 +1,4 @@
-"""Stage solvers are built on first use, once, and can be built in the background."""
-
-import subprocess
-import sys
+"""Stage solvers are built on first use, once."""
 
 import numpy as np
 import pytest
@@ -16,10 +13,11 @@ SETTINGS = PredictionSettings(nodes=6, max_iter=3, balance_max_iter=3, restarts=
 
 
 @pytest.mark.solve
-def test_stages_are_built_once_on_first_use_or_in_the_background():
+def test_stages_are_built_once_on_first_use():
     solver = solver_mod._build.__wrapped__(SETTINGS, "ipopt", False)
     assert solver.stage_build_s == {}  # nothing built yet
-    solver.prepare("full", "balance_direct").join()
+    solver.stage("full")
+    solver.stage("balance_direct")
     assert set(solver.stage_build_s) == {"nlp:full", "full:3", "nlp:balance", "balance:3"}
     # stages of one NLP and iteration limit share a solver
     assert solver.stage("full") is solver.stage("full_direct")
@@ -32,27 +30,6 @@ def test_stages_are_built_once_on_first_use_or_in_the_background():
     g = np.array(solver.constraints(ipopt.full_stage_start(solver, z0))).ravel()
     assert solver.constraints is solver.constraints  # built once
     assert g.size == solver.bounds.lbg.size
-    with pytest.raises(ValueError, match="unknown stages"):
-        solver.prepare("walking")
-
-
-@pytest.mark.solve
-def test_exit_waits_for_a_background_build():
-    """A process that exits while a stage builds in the background exits cleanly: the exit
-    handler (``join_builds``) waits for it; without it CasADi crashed such exits (SIGSEGV or
-    SIGABRT), in about half of the runs."""
-    solver = solver_mod._build.__wrapped__(SETTINGS, "ipopt", False)
-    thread = solver.prepare("balance")
-    assert thread.is_alive() and thread in solver_mod._BUILDS  # negative control: still building
-    solver_mod.join_builds()
-    assert not thread.is_alive() and "balance:3" in solver.stage_build_s
-    script = ("from walk3d.problem.settings import PredictionSettings as P; "
-              "from walk3d.solve.solver import build_solver; "
-              "s = build_solver(P(nodes=6)); s.prepare('balance'); "
-              "print('leaving', flush=True)")  # fmt: skip
-    r = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                       timeout=300)  # fmt: skip
-    assert r.returncode == 0 and r.stdout == "leaving\n", (r.returncode, r.stderr[-300:])
 
 
 @pytest.mark.solve

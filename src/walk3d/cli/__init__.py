@@ -45,8 +45,7 @@ def _root() -> None:
 
 
 def _interrupted() -> None:
-    """Ctrl-C: one line and exit code 130 at once, without waiting for a background stage
-    build to finish (:func:`walk3d.solve.solver.join_builds`); nothing is left to write."""
+    """Ctrl-C: one line and exit code 130 at once; nothing is left to write."""
     err_console.print("walk3d: interrupted", markup=False)
     sys.stdout.flush()
     sys.stderr.flush()

@@ -1,18 +1,16 @@
 """Building the prediction NLP's solvers: one :class:`Solver` per settings and method.
 
 A :class:`Solver` holds the NLP's bounds and lifting maps; its stage solvers (CasADi ``nlpsol``
-with IPOPT, or ``sqpmethod``) are built on first use or in the background
-(:meth:`Solver.prepare`). Solvers are kept in memory per settings (:func:`build_solver`), the
+with IPOPT, or ``sqpmethod``) are built on first use, in the calling thread (CasADi's symbolics
+are not thread-safe). Solvers are kept in memory per settings (:func:`build_solver`), the
 model's SX functions on disk too (:mod:`walk3d.solve.model_cache`). docs/solver.md has figures.
 """
 
 from __future__ import annotations
 
-import atexit
 import inspect
 import threading
 import time
-import weakref
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cache
@@ -46,19 +44,6 @@ the heel-strike rows; otherwise about 2 s of every process's set-up). The postur
 derivatives are small; the balance NLP's node 0 stays in CasADi's VM too."""
 CHUNKS = 8
 """Column blocks per compiled Jacobian or Hessian (:func:`derivatives.derivative_chunks`)."""
-
-
-_BUILDS: weakref.WeakSet[threading.Thread] = weakref.WeakSet()
-"""Background stage builds (:meth:`Solver.prepare`) that may still run."""
-
-
-@atexit.register
-def join_builds() -> None:
-    """Wait for the background stage builds. A build still inside CasADi when the interpreter
-    exits crashes the process (SIGSEGV or SIGABRT as CasADi's globals are destroyed under it),
-    so this runs at exit; a Ctrl-C exit skips it (:func:`walk3d.cli.main`)."""
-    for thread in list(_BUILDS):
-        thread.join()
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -184,23 +169,6 @@ class Solver:
                 self._built[key] = fn
                 self.stage_build_s[key] = time.perf_counter() - t0
             return self._built[key]  # type: ignore[return-value]
-
-    def prepare(self, *stages: Stage | str) -> threading.Thread:
-        """Build ``stages`` (stages or plan keys) in a background thread (started, returned);
-        only while no other thread uses CasADi, whose symbolics are not thread-safe."""
-        try:
-            todo = [self._stage(s) for s in stages]
-        except KeyError as exc:
-            raise ValueError(f"unknown stages: {exc.args[0]}") from None
-
-        def work() -> None:
-            for st in todo:
-                self.stage(st)
-
-        thread = threading.Thread(target=work, name="walk3d-build", daemon=True)
-        _BUILDS.add(thread)
-        thread.start()
-        return thread
 
     @property
     def constraints(self) -> ca.Function:
