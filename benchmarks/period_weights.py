@@ -36,7 +36,7 @@ TRIALS = {
 
 def weights_for(change: str, base: dict[str, float]) -> str:
     """The canonical criterion of ``base`` with ``change`` (``k=v,...`` or ``base``) applied."""
-    from walk3d.problem import terms
+    from walk3d.model import terms
 
     w = dict(base)
     for kv in change.split(","):
@@ -84,7 +84,7 @@ def run_one(criterion: str, trial: str, handover: bool = False) -> dict:
 
 
 def main() -> None:
-    from walk3d.problem import terms
+    from walk3d.model import terms
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--weights", nargs="*", default=["base", "accel=1", "jerk=1", "impact=2.5"])

@@ -83,7 +83,7 @@ def _walks(summary: dict) -> bool:
 
 
 def _criterion(summary: dict) -> float | None:
-    from walk3d.problem import terms
+    from walk3d.model import terms
 
     obj = summary.get("objective") or {}
     label = terms.label(summary["settings"]["model"]["criterion"])

@@ -77,7 +77,7 @@ def test_settings_defaults_are_the_command_line_defaults():
     assert s.gait.free == ("period", "double_support")
     assert (s.gait.mass, s.gait.height, s.gait.sex, s.gait.speed) == (68.8, 1.77, "male", 1.3806)
     assert s.solver.start == "atlas"
-    from walk3d.problem import terms
+    from walk3d.model import terms
 
     assert terms.preset_name(s.model.criterion) == terms.DEFAULT_PRESET
     given = api.settings(1.2, period=1.1, double_support=0.12, criterion="tor")

@@ -11,15 +11,22 @@ Conventions used everywhere in the package (see ``docs/conventions.md``):
 
 from walk3d.constants import G, __version__
 
-__all__ = ["G", "Prediction", "__version__", "load_result", "predict"]
+__all__ = ["G", "Node", "Prediction", "Term", "__version__", "load_result", "predict",
+           "register_term"]  # fmt: skip
 
 _API = ("Prediction", "load_result", "predict")
+_TERMS = {"Term": "Term", "Node": "Node", "register_term": "register"}
 
 
 def __getattr__(name: str):  # noqa: ANN202 - lazy: ``import walk3d`` stays light for the CLI
-    """``predict``, ``load_result`` and ``Prediction`` from :mod:`walk3d.api`, on first use."""
+    """``predict``, ``load_result`` and ``Prediction`` from :mod:`walk3d.api`; ``Term``,
+    ``Node`` and ``register_term`` (:func:`walk3d.model.terms.register`), on first use."""
     if name in _API:
         from walk3d import api
 
         return getattr(api, name)
+    if name in _TERMS:
+        from walk3d.model import terms
+
+        return getattr(terms, _TERMS[name])
     raise AttributeError(f"module 'walk3d' has no attribute {name!r}")

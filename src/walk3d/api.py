@@ -120,7 +120,7 @@ def criterion_value(value: str) -> str:
     as the canonical weights string. Raises ValueError naming what is wrong."""
     from walk3d.io.criterion import read_criterion
     from walk3d.io.errors import DataFileError
-    from walk3d.problem import terms
+    from walk3d.model import terms
 
     if value.lower().endswith(".toml"):
         try:
@@ -156,8 +156,8 @@ def settings(
     or TOML file), ``mass``, ``height``, ``sex``, ``start``, ``nodes``, ``threads`` (default:
     every core) and any other :class:`~walk3d.problem.settings.PredictionSettings` field.
     Raises ValueError with one line."""
+    from walk3d.model.terms import DEFAULT_PRESET
     from walk3d.problem.settings import PredictionSettings, available_cores, first_error
-    from walk3d.problem.terms import DEFAULT_PRESET
 
     numbers_ = {"speed": speed, "period": period, "double_support": double_support}
     numbers_.update((k, options[k]) for k in ("mass", "height") if k in options)

@@ -13,7 +13,8 @@ import numpy as np
 from walk3d.body.model import BodyModel
 from walk3d.constants import __version__
 from walk3d.io.errors import OutputWriteError
-from walk3d.problem import layout, similarity, terms
+from walk3d.model import terms
+from walk3d.problem import layout, similarity
 from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.asymmetry import asymmetry_or_none
 from walk3d.results.evaluate import evaluate_cycle, make_prediction

@@ -9,12 +9,12 @@ import pytest
 from walk3d.body.changes import apply_changes, check_changes, limited_dofs
 from walk3d.body.model import SEGMENT_NAMES, build_body
 from walk3d.kinematics.forward import forward, joint_quaternions, root_foot_triples, stack_v
+from walk3d.model.ranges import joint_ranges
+from walk3d.model.whatif import BRACE_HEEL_RISE, heel_rise
 from walk3d.problem.full_cycle import swap_changes
-from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.schedule import range_rows
 from walk3d.problem.settings import PredictionSettings, body_for, first_error
 from walk3d.problem.similarity import REFERENCE_MASS_KG, reference_problem
-from walk3d.problem.whatif import BRACE_HEEL_RISE, heel_rise
 
 FIVE = math.radians(5.0)
 
@@ -124,7 +124,7 @@ def test_limits_narrow_both_sides_and_get_rows_between_the_nodes():
     dofs = limited_dofs(body, s.model.changes.limits)
     assert sorted(body.dof_names[i] for i in dofs) == ["ankle_dorsiflexion_l",
                                                        "ankle_dorsiflexion_r"]  # fmt: skip
-    ranges, plain = joint_ranges(body, s), joint_ranges(body, PredictionSettings())
+    ranges, plain = joint_ranges(body, s.model), joint_ranges(body, PredictionSettings().model)
     for i in range(24):
         expect = (-FIVE, FIVE) if i in dofs else tuple(plain[i])
         np.testing.assert_allclose(ranges[i], expect)

@@ -295,7 +295,7 @@ def test_starts_are_ranked_by_the_minimized_value_with_its_what_if_parts():
     """A one-sided change's full cycle minimizes ``C_weighted`` (its weights times the step
     asymmetry's factor, plus any overload) even under a plain criterion: the ranking reads that.
     Control: without ``C_weighted`` (an older summary) the criterion's own value."""
-    from walk3d.problem import terms
+    from walk3d.model import terms
 
     weighted = {"total": 3.3, "weights": {"tor": 1.0}, "parts": {"tor": 3.2, "overload": 0.1}}
     objective = {"C_tor": {"total": 3.2}, "C_weighted": weighted}

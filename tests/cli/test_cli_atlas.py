@@ -53,7 +53,7 @@ def test_atlas_build_prints_a_damaged_speed_warning_as_one_line(tmp_path, monkey
 
     import walk3d.campaign.atlas as atlas
     from walk3d.cli import main
-    from walk3d.problem.terms import DEFAULT_PRESET
+    from walk3d.model.terms import DEFAULT_PRESET
 
     def build(sex, preset, work, speeds, out, seed, progress):
         warnings.warn(f"{work}/v_1.200 cannot be read (summary.json: invalid JSON): solving "

@@ -7,7 +7,7 @@ import pytest
 
 from walk3d.io.criterion import read_criterion
 from walk3d.io.errors import DataFileError
-from walk3d.problem import terms
+from walk3d.model import terms
 
 
 def test_top_level_and_table_layouts_give_the_same_criterion(tmp_path):

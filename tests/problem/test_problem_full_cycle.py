@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from walk3d.body.model import build_body
+from walk3d.model.whatif import STEP_ASYMMETRY_COST
 from walk3d.problem import layout
 from walk3d.problem.full_cycle import swap_changes, swapped_side
 from walk3d.problem.settings import PredictionSettings
-from walk3d.problem.whatif import STEP_ASYMMETRY_COST
 from walk3d.solve.full_cycle import mirrored_start
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verify"))

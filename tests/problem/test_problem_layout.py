@@ -5,8 +5,8 @@ import pytest
 
 from walk3d.contact.phases import GaitPhases
 from walk3d.kinematics import fourier
+from walk3d.model.criteria import node_terms, split_by_axis
 from walk3d.problem import layout
-from walk3d.problem.criteria import node_terms, split_by_axis
 from walk3d.problem.settings import PredictionSettings, first_error
 
 T = 1.08

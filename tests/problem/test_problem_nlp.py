@@ -6,10 +6,10 @@ import pytest
 from walk3d import G
 from walk3d.body.model import build_body
 from walk3d.kinematics.forward import stack_v
+from walk3d.model.criteria import node_terms, signed_integrands
+from walk3d.model.state import dof_moment_terms, strength_weights
 from walk3d.problem import layout, nlp
 from walk3d.problem.bounds import bounds
-from walk3d.problem.criteria import node_terms
-from walk3d.problem.gait import dof_moment_terms, strength_weights
 from walk3d.problem.schedule import loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings
 
@@ -37,12 +37,12 @@ def test_symbolic_node_function_matches_numpy_evaluation(setup):
     # ω comes from the node parameters (here T = 1.3 s, not the settings' 1.08 s)
     st = nlp.state_at(body, [np.array([v]) for v in y], [np.array([v]) for v in w0], hw,
                       p[0], p[1], p[2])  # fmt: skip
-    g_np, f_np, starts = nlp.node_outputs(body, s.model, st)
+    g_np, f_np, starts = nlp.node_outputs(body, s.model, st, *dof_moment_terms(body, st)[:2])
     g_np = [float(np.squeeze(v)) for v in g_np]
     np.testing.assert_allclose(g[: len(g_np)], g_np, rtol=1e-10, atol=1e-12)
     assert len(g) == nlp.N_G
     # slack rows: t - u± with u± the signed criterion terms; the objective is the slack sum
-    u_pos, u_neg = nlp.signed_terms(body, s.model, st)
+    u_pos, u_neg = signed_integrands(body, "tor", *dof_moment_terms(body, st)[:2])
     u_pos = np.array([float(np.squeeze(v)) for v in u_pos])
     u_neg = np.array([float(np.squeeze(v)) for v in u_neg])
     np.testing.assert_allclose(g[nlp.G_ROWS["slack_pos"]], t - u_pos, rtol=1e-10, atol=1e-12)
@@ -99,7 +99,8 @@ def test_handover_node_function_matches_numpy_and_moves_the_loads(setup):
     g = np.array(fn(y, w0, hw, p, t)[0]).ravel()
     st = nlp.state_at(body, [np.array([v]) for v in y], [np.array([v]) for v in w0], hw,
                       p[0], p[1], p[2], handover=(p[3], p[4], p[5]))  # fmt: skip
-    g_np = np.array([float(np.squeeze(v)) for v in nlp.node_outputs(body, model, st)[0]])
+    mr = dof_moment_terms(body, st)[:2]
+    g_np = np.array([float(np.squeeze(v)) for v in nlp.node_outputs(body, model, st, *mr)[0]])
     np.testing.assert_allclose(g_h[: g_np.size], g_np, rtol=1e-9, atol=1e-11)
     force = nlp.G_ROWS["root_force"]
     assert np.abs(g_h[force] - g[force]).max() > 1e-3

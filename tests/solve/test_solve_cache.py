@@ -194,7 +194,7 @@ def test_model_functions_read_only_the_model_settings_of_the_key(recorded):
     else: they read model fields (a recorder on the group sees them), and a field they read
     changes both the functions and the key (negative control)."""
     fns, read = recorded
-    assert set(fns) == {"loop"} | {nlp._node_name(d, b, h) for d, b in nlp.STAGES.values()
+    assert set(fns) == {"loop"} | {nlp.node_name(d, b, h) for d, b in nlp.STAGES.values()
                                    for h in (True, False)}  # fmt: skip
     # passive is in the key when on; off, it is left out and the functions are those before it
     assert read == {"absolute", "balance_split", "changes", "cop_margin", "criterion",
@@ -206,12 +206,12 @@ def test_model_functions_read_only_the_model_settings_of_the_key(recorded):
     rougher = SETTINGS.replace(friction=0.6)
     assert _key(rougher) != _key(SETTINGS)
     node = nlp.node_function(body_for(rougher), rougher.model)
-    assert node.serialize() != fns[nlp._node_name(True, True, False)].serialize()
+    assert node.serialize() != fns[nlp.node_name(True, True, False)].serialize()
     # a weakened joint's overload term is in the node function, and its changes in the key
     weak = SETTINGS.replace(changes={"strength": {"ankle_r": 0.5}})
     assert _key(weak) != _key(SETTINGS)
     node = nlp.node_function(body_for(weak), weak.model)
-    assert node.serialize() != fns[nlp._node_name(True, True, False)].serialize()
+    assert node.serialize() != fns[nlp.node_name(True, True, False)].serialize()
 
 
 @pytest.mark.model
@@ -230,4 +230,4 @@ def test_gait_descriptors_leave_the_node_functions_unchanged(recorded):
         assert solver._compiled_key(again, other, kind) == solver._compiled_key(fns, SETTINGS, kind)
     heavier = SETTINGS.replace(**{"mass": 80.0})
     node = nlp.node_function(body_for(heavier), heavier.model)
-    assert node.serialize() != fns[nlp._node_name(True, True, False)].serialize()
+    assert node.serialize() != fns[nlp.node_name(True, True, False)].serialize()

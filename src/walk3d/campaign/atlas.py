@@ -29,7 +29,8 @@ import numpy as np
 
 from walk3d.constants import __version__
 from walk3d.io._atomic import atomic_path, atomic_write_text
-from walk3d.problem import descriptors, layout, similarity, terms
+from walk3d.model import terms
+from walk3d.problem import descriptors, layout, similarity
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import SOLVE_REVISION
 from walk3d.solve.atlas import ATLAS_DIR, FORMAT, POINT_KEYS, atlas_path, settings_key

@@ -37,6 +37,7 @@ from rich.progress import (
 )
 
 from walk3d.campaign import ranking, store, task
+from walk3d.model import terms
 from walk3d.problem.settings import PredictionSettings, available_cores
 
 if TYPE_CHECKING:
@@ -129,6 +130,7 @@ def _client(workers: int | None, scheduler: str | None, pending: int) -> Iterato
 
     if scheduler:
         with Client(scheduler) as client:
+            _register_terms(client)
             yield client
         return
     for key, value in WORKER_ENV.items():
@@ -148,7 +150,15 @@ def _client(workers: int | None, scheduler: str | None, pending: int) -> Iterato
         Client(cluster) as client,
     ):
         client.register_plugin(task.IgnoreInterrupt())
+        _register_terms(client)
         yield client
+
+
+def _register_terms(client: Client) -> None:
+    """Register this process's user criterion terms on every worker (none: nothing to do)."""
+    user = terms.user_terms()
+    if user:
+        client.register_plugin(task.RegisterTerms(user))
 
 
 def _progress(console: Console | None, enabled: bool) -> Progress:

@@ -37,7 +37,8 @@ import numpy as np
 from walk3d.campaign.sweep_folder import SweepMismatch, check_folder, speed_folder, stored
 from walk3d.io._atomic import atomic_write_text
 from walk3d.io.checks import read_json_object
-from walk3d.problem import descriptors, terms
+from walk3d.model import terms
+from walk3d.problem import descriptors
 from walk3d.problem.settings import PredictionSettings
 
 __all__ = ["COLUMNS", "SweepMismatch", "SweepReport", "parse_speeds", "per_metre", "run_sweep",

@@ -26,7 +26,7 @@ from distributed.diagnostics.plugin import WorkerPlugin
 
 from walk3d.campaign import store
 from walk3d.io._atomic import temporary_sibling
-from walk3d.problem import terms
+from walk3d.model import terms
 from walk3d.problem.settings import flat_settings
 
 __all__ = ["ENVIRONMENT", "NUMERICS", "IgnoreInterrupt", "error_record", "failure_kind",
@@ -63,6 +63,20 @@ class IgnoreInterrupt(WorkerPlugin):
 
         if threading.current_thread() is threading.main_thread():
             signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class RegisterTerms(WorkerPlugin):
+    """Dask worker plugin: registers the campaign process's user criterion terms
+    (:func:`walk3d.model.terms.user_terms`) in each worker, which solves with them."""
+
+    name = "walk3d-terms"
+
+    def __init__(self, user_terms: tuple[terms.Term, ...]) -> None:
+        self.user_terms = user_terms
+
+    def setup(self, worker: object) -> None:
+        for term in self.user_terms:
+            terms.register(term, replace=True)
 
 
 def _env_seeds(name: str) -> set[int]:

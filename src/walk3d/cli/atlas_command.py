@@ -7,7 +7,7 @@ from typing import Annotated
 import typer
 
 from walk3d.cli.common import EXIT_WRITE, app, console, fail, warning_lines
-from walk3d.problem.terms import DEFAULT_PRESET
+from walk3d.model.terms import DEFAULT_PRESET
 
 atlas_app = typer.Typer(no_args_is_help=True, help="The atlas of walk3d's own solutions that "
                         "predictions start from (docs/starts.md).")  # fmt: skip
@@ -36,7 +36,7 @@ def build(
     could not be written."""
     from walk3d.campaign.atlas import build_atlas
     from walk3d.campaign.sweep import SweepMismatch, parse_speeds
-    from walk3d.problem import terms
+    from walk3d.model import terms
 
     sexes = ("male", "female") if sex == "both" else (sex,)
     presets = tuple(p.strip() for p in criterion.split(",") if p.strip())

@@ -39,7 +39,7 @@ from walk3d.cli.common import (
     paper_case,
     settings_from_options,
 )
-from walk3d.problem.terms import DEFAULT_PRESET
+from walk3d.model.terms import DEFAULT_PRESET
 
 
 @app.command()

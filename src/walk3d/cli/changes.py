@@ -1,6 +1,6 @@
 """The what-if options of ``walk3d predict``, ``campaign`` and ``sweep`` (issue #43):
 ``--strength``, ``--range``, ``--added-mass`` and ``--leg-length-difference``, parsed into
-:class:`walk3d.problem.whatif.Changes` fields (degrees at this edge, rad inside), and
+:class:`walk3d.model.whatif.Changes` fields (degrees at this edge, rad inside), and
 ``--full-cycle``."""
 
 from __future__ import annotations

@@ -47,7 +47,7 @@ from walk3d.cli.common import (
     start_text,
     warned,
 )
-from walk3d.problem.terms import DEFAULT_PRESET
+from walk3d.model.terms import DEFAULT_PRESET
 
 
 @app.command()
@@ -309,7 +309,7 @@ def descriptor_text(d: dict) -> str:
 def compile_hint(settings) -> str:
     """What makes later solves of ``settings``' sex and criterion faster: the ``walk3d compile``
     command and its cost (165-180 s on 2 cores, docs/solver.md), or the options to repeat."""
-    from walk3d.problem import terms
+    from walk3d.model import terms
 
     model = settings.model
     name = terms.preset_name(model.criterion)
@@ -322,7 +322,7 @@ def compile_hint(settings) -> str:
 def objective_rows(t: Table, objective: dict, criterion: str) -> None:
     """The criterion rows of the predict table: the minimized one first (with its weights),
     then every term with its x/y/z split."""
-    from walk3d.problem import terms
+    from walk3d.model import terms
 
     w = objective.get("C_weighted")
     if terms.label(criterion) == "C_weighted" and w:
@@ -333,7 +333,7 @@ def objective_rows(t: Table, objective: dict, criterion: str) -> None:
             + " + ".join(f"{v:g}·C_{k}" for k, v in w["weights"].items())
             + (f" (preset {name})" if name else ""),
         )
-    for key in ("C_tor", "C_en", *(f"C_{k}" for k in terms.EXTRAS)):
+    for key in terms.reported(objective):
         c = objective.get(key)
         if c:
             t.add_row(key, f"{c['total']:.4g}  (x {c['x']:.3g}, y {c['y']:.3g}, z {c['z']:.3g})")

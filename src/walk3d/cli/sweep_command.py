@@ -25,7 +25,7 @@ from walk3d.cli.common import (
     settings_from_options,
     warning_lines,
 )
-from walk3d.problem.terms import DEFAULT_PRESET
+from walk3d.model.terms import DEFAULT_PRESET
 
 
 @app.command()

@@ -7,7 +7,7 @@ The file holds one number per term, at the top level or in a ``[criterion]`` tab
     accel = 0.5
     pelvis = 0.5
 
-Term names are those of :mod:`walk3d.problem.terms`; the weights are checked there.
+Term names are those of :mod:`walk3d.model.terms`; the weights are checked there.
 """
 
 from __future__ import annotations

@@ -11,9 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from walk3d.body.model import BodyModel
-from walk3d.problem import descriptors, layout, whatif
+from walk3d.model import whatif
+from walk3d.model.ranges import joint_ranges
+from walk3d.problem import descriptors, layout
 from walk3d.problem.nlp import BALL_NORM_MAX, G_ROWS, N_G, N_T, N_Y, per_foot_loads
-from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.schedule import Schedule, loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings
 
@@ -38,7 +39,7 @@ def _coord_bounds(
     n_nodes = sch.n
     lo = np.full((n_nodes, 3, layout.N_COORD), -np.inf)
     hi = np.full((n_nodes, 3, layout.N_COORD), np.inf)
-    ranges = joint_ranges(body, settings)
+    ranges = joint_ranges(body, settings.model)
     lo[:, 0, :24] = np.sin(ranges[:, 0] / 2)
     hi[:, 0, :24] = np.sin(ranges[:, 1] / 2)
     s_up, s_down = np.sin(np.radians(40) / 2), np.sin(np.radians(-75) / 2)

@@ -76,7 +76,7 @@ class NlpPieces:
     functions' second input); None: none (size 0)."""
 
 
-def _node_symbols(node: ca.Function, crit: int):
+def node_symbols(node: ca.Function, crit: int):
     """SX inputs and expressions of ``node``: ``(v, p, sf, lam_g, g, f[crit])``; the
     Lagrangian is ``sf·f[crit] + lam_gᵀ g``."""
     y, w0, hw, p, t = (node.sx_in(i) for i in range(5))
@@ -89,7 +89,7 @@ def node_derivatives(node: ca.Function, crit: int) -> tuple[ca.Function, ...]:
     """Node k's constraint Jacobian, objective gradient and Lagrangian Hessian in ``v_k``
     (separate functions: an MX call evaluates every output of the function it calls).
     Signatures: ``jac(v, p)``, ``grad(v, p)``, ``hess(v, p, sf, lam_g)``."""
-    v, p, sf, lam_g, g, fc = _node_symbols(node, crit)
+    v, p, sf, lam_g, g, fc = node_symbols(node, crit)
     jac = ca.Function("walk3d_node_jac", [v, p], [ca.jacobian(g, v)])
     hess = ca.hessian(sf * fc + ca.dot(lam_g, g), v)[0]
     return jac, node_gradient(node, crit), ca.Function("walk3d_node_hess", [v, p, sf, lam_g],
@@ -98,7 +98,7 @@ def node_derivatives(node: ca.Function, crit: int) -> tuple[ca.Function, ...]:
 
 def node_gradient(node: ca.Function, crit: int) -> ca.Function:
     """``grad(v, p)``: the gradient of the node's criterion term (small)."""
-    v, p, _, _, _, fc = _node_symbols(node, crit)
+    v, p, _, _, _, fc = node_symbols(node, crit)
     return ca.Function("walk3d_node_grad", [v, p], [ca.gradient(fc, v)])
 
 
@@ -114,7 +114,7 @@ def derivative_chunks(
     and memory; 8 column blocks compile in minutes (docs/solver.md, "Compiled derivatives").
     :func:`assemble` joins the blocks back; the values are those of :func:`node_derivatives`
     (tested)."""
-    v, p, sf, lam_g, g, fc = _node_symbols(node, crit)
+    v, p, sf, lam_g, g, fc = node_symbols(node, crit)
     grad = ca.gradient(sf * fc + ca.dot(lam_g, g), v)
     edges = np.linspace(0, v.numel(), chunks + 1).astype(int)
     out: dict[str, list[ca.Function]] = {"jac": [], "hess": []}

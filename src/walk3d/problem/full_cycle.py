@@ -22,7 +22,7 @@ The stride splits freely between the steps: ``X``'s step shift ``d``
 one ``V T / 2 − d``, by moving each step NLP's other-foot anchor (its parameter,
 :data:`SHIFT_SIGN`). The heel strikes stay half a cycle apart, so the stance times are equal.
 Unequal steps cost: the criterion is multiplied by ``1 + k SLA²``, SLA = ``d / (V T / 2)``
-(:data:`walk3d.problem.whatif.STEP_ASYMMETRY_COST`; ``kappa = k / (V T / 2)²``), as measured
+(:data:`walk3d.model.whatif.STEP_ASYMMETRY_COST`; ``kappa = k / (V T / 2)²``), as measured
 metabolic cost grows with step-length asymmetry; without it the criterion prefers a limp
 (docs/what-if.md).
 """
@@ -32,10 +32,12 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from walk3d.problem import layout, terms
+from walk3d.model import terms
+from walk3d.model.whatif import KINDS
+from walk3d.problem import layout
+from walk3d.problem.jerk import jerk_per_coefficient
 from walk3d.problem.nlp import loop_rows, row_scale
 from walk3d.problem.schedule import lifted
-from walk3d.problem.whatif import KINDS
 
 __all__ = ["FullProblem", "full_jerk_weights", "lifting", "swap_changes", "swapped_side"]
 
@@ -72,7 +74,7 @@ def full_jerk_weights(settings) -> np.ndarray | None:
     w = terms.extras(settings.model.criterion).get("jerk")
     if not w:
         return None
-    per = terms.jerk_per_coefficient(settings.gait.period)
+    per = jerk_per_coefficient(settings.gait.period)
     q = np.zeros(N_XF)
     for s in range(layout.N_SERIES - 1):  # the foot's rotation is no DoF
         q[s * layout.N_COEF : (s + 1) * layout.N_COEF] = per

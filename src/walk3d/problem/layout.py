@@ -62,6 +62,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from walk3d.kinematics import fourier
+from walk3d.model.coordinates import I_FOOT_L as I_FOOT_L
+from walk3d.model.coordinates import I_FOOT_R as I_FOOT_R
+from walk3d.model.coordinates import N_COORD
 
 SERIES_NAMES = (
     "waist_x", "waist_y", "waist_z", "neck", "shoulder_x", "shoulder_y", "shoulder_z", "elbow",
@@ -71,7 +74,6 @@ N_SERIES = len(SERIES_NAMES)
 N_COEF = fourier.N_COEF
 N_X = N_SERIES * N_COEF + 1
 I_HALF_STEP = N_SERIES * N_COEF
-N_COORD = 26
 N_Y = 3 * N_COORD
 """Lifted variables per NLP node: the 26 coordinates, their rates / ω and accelerations / ω²."""
 N_T = 24
@@ -116,7 +118,6 @@ COORD_SOURCE: tuple[tuple[int, bool], ...] = (
     (8, True), (9, True), (10, True), (11, True), (12, True), (13, True),        # left leg
     (14, False), (14, True),                                      # feet
 )  # fmt: skip
-I_FOOT_R, I_FOOT_L = 24, 25
 PARITY = {0: "odd", 1: "odd", 2: "even", 3: "even"}
 
 

@@ -25,11 +25,13 @@ from walk3d.body.model import BodyModel
 from walk3d.constants import G
 from walk3d.contact.support import foot_points, support_rows
 from walk3d.contact.transition import ratio_map
-from walk3d.problem import layout, terms, whatif
-from walk3d.problem.criteria import POWER_SCALE_W, node_terms
+from walk3d.model import terms
+from walk3d.model.criteria import POWER_SCALE_W, node_terms, signed_integrands
+from walk3d.model.node import node_model, objective
+from walk3d.model.state import GaitState, dof_moment_terms, evaluate, strength_weights
+from walk3d.problem import layout
 from walk3d.problem.derivatives import NlpPieces, NodeDerivs, derivative_functions
-from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
-from walk3d.problem.passive import active_state
+from walk3d.problem.jerk import coefficient_weights
 from walk3d.problem.schedule import (
     lifting_maps,
     loop_check_times,
@@ -67,25 +69,10 @@ def state_at(body: BodyModel, y, w0, hw, decay, anchor_x, omega: float, dynamics
                     handover=handover)  # fmt: skip
 
 
-def signed_terms(body: BodyModel, model: ModelSettings, st: GaitState):
-    """Per DoF, ``(u⁺, u⁻)`` with ``max(u⁺, u⁻)`` the exact criterion integrand.
-
-    C_tor: ``u⁺ = M/M⁺``, ``u⁻ = -M/M⁻`` (direction-dependent strength). C_en: ``±P/P_ref``
-    with ``P_ref`` = :data:`walk3d.problem.criteria.POWER_SCALE_W`.
-    """
-    moments, rates, _ = dof_moment_terms(body, st)
-    pos = np.concatenate([j.strength_pos for j in body.joints])
-    neg = np.concatenate([j.strength_neg for j in body.joints])
-    if terms.base(model.criterion) == "tor":
-        return [m / pos[i] for i, m in enumerate(moments)], [
-            -m / neg[i] for i, m in enumerate(moments)
-        ]
-    powers = [m * w / POWER_SCALE_W for m, w in zip(moments, rates, strict=True)]
-    return powers, [-p for p in powers]
-
-
-def node_outputs(body: BodyModel, model: ModelSettings, st: GaitState):
-    """Constraint rows (list of N_G) and objective terms ``[C_tor, C_en/EN_SCALE]`` per node."""
+def node_outputs(body: BodyModel, model: ModelSettings, st: GaitState, moments, rates):
+    """Constraint rows (list of N_G) and objective terms ``[C_tor, C_en/EN_SCALE]`` per node
+    (smoothed, :mod:`walk3d.model.criteria`), from the criterion's DoF ``moments`` and
+    ``rates``."""
     wf = body.mass * G
     mu = model.friction
 
@@ -104,7 +91,6 @@ def node_outputs(body: BodyModel, model: ModelSettings, st: GaitState):
         + force_rows(st.feet["r"]) + force_rows(st.feet["l"])
         + [c / wf for c in st.hs_wrench[0]] + [c / wf for c in st.hs_wrench[1]]
     )  # fmt: skip
-    moments, rates, _ = dof_moment_terms(body, st)
     a, b = strength_weights(body)
     tor, en = node_terms(moments, rates, a, b, model.smoothing)
     return g, [sum(tor), sum(en) / EN_SCALE], y_norms
@@ -150,10 +136,11 @@ def node_function(
     Criterion form (``model.absolute``):
 
     * ``slack`` (default): the integrand ``|u|`` is replaced by a slack ``t ≥ u⁺, t ≥ u⁻`` per
-      DoF (:func:`signed_terms`), and ``f = Σ t``. This is exact at the optimum and smooth:
-      the objective is linear, and the only curvature left is that of the moments themselves.
+      DoF (:func:`walk3d.model.criteria.signed_integrands`), and ``f = Σ t``. This is exact at
+      the optimum and smooth: the objective is linear, and the only curvature left is that of
+      the moments themselves.
       (With ``sqrt(u² + ε²)`` the curvature ``1/ε`` near ``u = 0`` kept IPOPT from converging.)
-    * ``smooth``: ``f`` holds the smoothed criteria of :mod:`walk3d.problem.criteria`; the
+    * ``smooth``: ``f`` holds the smoothed criteria of :mod:`walk3d.model.criteria`; the
       slack rows are zeros and ``t`` is unused.
 
     With ``dynamics=False`` (first stage) both objective terms are the mean squared joint
@@ -162,8 +149,8 @@ def node_function(
     inverse dynamics. (Rates alone leave constant offsets free, and the first stage then parked
     the arms at 70° of flexion.) With ``with_hs=False`` the heel-strike wrench rows are constant
     zeros: only node 0 needs them. ``balance=False`` (with ``dynamics=False``) also drops the
-    total reaction: geometry only, a cheap posture stage. ``model.passive``: the criterion sees
-    the active moments (:mod:`walk3d.problem.passive`).
+    total reaction: geometry only, a cheap posture stage. The criterion's moments and terms are
+    the node model's (:func:`walk3d.model.node.node_model`: passive joints and other elements).
     """
     y = ca.SX.sym("y", N_Y)
     w0 = ca.SX.sym("w0", 6)
@@ -174,8 +161,11 @@ def node_function(
     per_foot = per_foot_loads(model, dynamics, balance)
     share = (p[3], p[4], p[5]) if model.handover else None
     st = state_at(body, yl, w0l, hw, p[0], p[1], p[2], dynamics, balance, per_foot, share)
-    st = active_state(body, st, yl[:24], model.passive_total) if dynamics and model.passive else st
-    g, f, starts = node_outputs(body, model, st)
+    coords = _unpack_coords(yl, p[2])
+    wanted = tuple(n for n in terms.extras(model.criterion) if n in terms.node_names())
+    nm = node_model(body, model, coords, st, wanted) if dynamics else None
+    moments, rates, _ = (nm.moments, nm.rates, nm.axes) if nm else dof_moment_terms(body, st)
+    g, f, starts = node_outputs(body, model, st, moments, rates)
     if not dynamics:
         n = layout.N_COORD
         rate = sum(y[n + i] ** 2 + y[2 * n + i] ** 2 for i in range(n)) / n
@@ -186,20 +176,14 @@ def node_function(
     for s in starts:  # |vector part|² of each ball joint stays below 1
         g.append(y[s] ** 2 + y[s + 1] ** 2 + y[s + 2] ** 2)
     if dynamics and model.absolute == "slack":
-        u_pos, u_neg = signed_terms(body, model, st)
+        u_pos, u_neg = signed_integrands(body, terms.base(model.criterion), moments, rates)
         g += [t[i] - u for i, u in enumerate(u_pos)] + [t[i] - u for i, u in enumerate(u_neg)]
         total = ca.sum1(t)
         f = [total, total * POWER_SCALE_W / EN_SCALE]
     else:
         g += [0.0] * (2 * N_T)
-    w_base = terms.parse(model.criterion)[terms.base(model.criterion)]
-    extra = terms.extras(model.criterion)
-    if dynamics and (extra or w_base != 1.0 or whatif.weakened_dofs(body, model.changes)):
-        k = criterion_row(model)
-        moments, _, axes = dof_moment_terms(body, st)
-        it = terms.integrands(body, _unpack_coords(yl, p[2]), st.pose, st.total[0], moments)
-        cap = sum(whatif.overload(body, model.changes, moments, yl[:24], axes))
-        f[k] = w_base * f[k] + (terms.weighted(extra, it) + cap) * row_scale(model)
+    k = criterion_row(model)
+    f[k] = objective(model, f[k], nm, row_scale(model))
     g += _support(body, model, st, per_foot)
     return ca.Function("walk3d_node", [y, w0, hw, p, t], [ca.vertcat(*g), ca.vertcat(*f)])
 
@@ -230,7 +214,7 @@ def loop_rows(loop: ca.Function, cmap: np.ndarray, x: ca.MX, anchor_x) -> ca.MX:
 
 def criterion_row(model: ModelSettings) -> int:
     """The row of the node function's ``f`` that the NLP minimizes: 0 for a criterion built on
-    C_tor, 1 on C_en (its extra terms, :mod:`walk3d.problem.terms`, are added to that row)."""
+    C_tor, 1 on C_en (its extra terms, :mod:`walk3d.model.terms`, are added to that row)."""
     return 0 if terms.base(model.criterion) == "tor" else 1
 
 
@@ -246,18 +230,19 @@ def jerk_weights(settings: PredictionSettings) -> np.ndarray | None:
     w = terms.extras(settings.model.criterion).get("jerk")
     if not w:
         return None
-    return w * row_scale(settings.model) * terms.coefficient_weights(settings.gait.period)
+    return w * row_scale(settings.model) * coefficient_weights(settings.gait.period)
 
 
 STAGES = {"posture": (False, False), "balance": (False, True), "full": (True, True)}
 """``(dynamics, balance)`` of the NLP of each solver stage."""
 
 
-def _node_name(dynamics: bool, balance: bool, with_hs: bool) -> str:
+def node_name(dynamics: bool, balance: bool, with_hs: bool) -> str:
+    """The name of the node function of a stage's NLP (:func:`model_functions`)."""
     return f"node_d{int(dynamics)}b{int(balance)}h{int(with_hs)}"
 
 
-_NODE_FLAGS = {_node_name(d, b, h): (d, b, h) for d, b in STAGES.values() for h in (True, False)}
+_NODE_FLAGS = {node_name(d, b, h): (d, b, h) for d, b in STAGES.values() for h in (True, False)}
 MODEL_FUNCTIONS = ("loop", *_NODE_FLAGS)
 
 
@@ -306,7 +291,7 @@ def node_calls(
     fns = functions or {}
 
     def node_fn(with_hs: bool) -> ca.Function:
-        fn = fns.get(_node_name(dynamics, balance, with_hs))
+        fn = fns.get(node_name(dynamics, balance, with_hs))
         return fn or node_function(body, settings.model, dynamics, with_hs=with_hs, balance=balance)
 
     # without dynamics (and without the balance split) the heel-strike rows are zeros anyway: one

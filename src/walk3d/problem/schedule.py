@@ -11,8 +11,8 @@ import numpy as np
 from walk3d.body.changes import limited_dofs
 from walk3d.body.model import BodyModel
 from walk3d.contact.phases import GaitPhases
+from walk3d.model.ranges import joint_ranges
 from walk3d.problem import descriptors, layout
-from walk3d.problem.ranges import joint_ranges
 from walk3d.problem.settings import PredictionSettings
 
 __all__ = ["Schedule", "lifting_maps", "loop_check_times", "nlp_layout", "node_params",
@@ -123,7 +123,7 @@ def range_rows(
     t = ph.heel_strike_r + np.arange(n_t) * settings.gait.period / (2 * m)
     maps = layout.full_coordinate_maps if full else layout.coordinate_maps
     a0 = maps(t, settings.gait.period)[0]
-    ranges = joint_ranges(body, settings)[dofs]
+    ranges = joint_ranges(body, settings.model)[dofs]
     R = a0[:, dofs, :].reshape(-1, a0.shape[2])
     lo = np.tile(np.sin(ranges[:, 0] / 2), n_t)
     hi = np.tile(np.sin(ranges[:, 1] / 2), n_t)

@@ -15,37 +15,30 @@ defaults is in docs/solver.md.
 
 from __future__ import annotations
 
-import math
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, ValidationError, field_validator, model_validator
 
-from walk3d.problem import descriptors, terms
-from walk3d.problem.setup import available_cores, body_for, ratios_for
-from walk3d.problem.whatif import Changes
+from walk3d.model.settings import ModelSettings, SettingsGroup
+from walk3d.model.subject import body_for, ratios_for
+from walk3d.problem import descriptors
 
 __all__ = ["GaitSettings", "ModelSettings", "PredictionSettings", "SolverSettings",
            "available_cores", "body_for", "first_error", "flat_settings", "ratios_for",
            "recorded_settings"]  # fmt: skip
 
 
-class _Group(BaseModel):
-    model_config = ConfigDict(frozen=True, extra="forbid")
+def available_cores() -> int:
+    """CPU cores this process may run on (its affinity mask where the OS has one)."""
+    import os
 
-    @field_validator("*", mode="before")
-    @classmethod
-    def _finite(cls, v, info):
-        if isinstance(v, float) and not math.isfinite(v):
-            raise ValueError(f"{info.field_name} must be a finite number, got {v}")
-        return v
-
-    def _check(self, checks: list[tuple[bool, str]]) -> None:
-        for ok, msg in checks:
-            if not ok:
-                raise ValueError(msg)
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # macOS, Windows
+        return max(1, os.cpu_count() or 1)
 
 
-class GaitSettings(_Group):
+class GaitSettings(SettingsGroup):
     """The walker and the walk. Defaults: the paper's subject and descriptors."""
 
     speed: float = 1.3806
@@ -81,110 +74,7 @@ class GaitSettings(_Group):
         return self.speed * self.period
 
 
-class ModelSettings(_Group):
-    """Which problem is solved: the criterion, the physical assumptions and the form of the
-    constraints. Lengths are at the reference stature (1.77 m) and scale with the subject's
-    (:mod:`walk3d.problem.similarity`)."""
-
-    criterion: str = "tor"
-    """C_tor (normalized joint torque), C_en (mechanical energy), the paper's two, or a weighted
-    criterion (:mod:`walk3d.problem.terms`), stored in canonical form (presets expanded)."""
-    friction: float = 0.8
-    """Foot-floor friction coefficient for |Fx|/Fy and |Fz|/Fy (rubber sole on a lab floor)."""
-    free_moment_radius: float = 0.02
-    """Torsional radius of the sole, m: ``|free moment| ≤ friction × r × Fy``
-    (:mod:`walk3d.contact.support`); 2 cm allows about 11 N·m at body weight."""
-    cop_margin: float = 0.0
-    """How far inside the heel and the toe the NLP keeps each foot's centre of pressure at its
-    nodes, m. The cycle between the nodes is judged against the whole foot
-    (:mod:`walk3d.results.violations`), so a margin leaves room for the motion between nodes."""
-    swing_clearance: float = 0.0
-    """Least height of the swing foot's heel, toe and metatarsal heads at the NLP's swing nodes,
-    m (the floor is 0): room for the foot's path between nodes."""
-    min_ankle_separation: float = 0.06
-    """Least lateral distance between the ankle joint centres, m: the feet must not cross."""
-    foot_flat_tolerance: float = math.radians(3.0)
-    """Largest stance-foot rotation in single stance, rad. The paper asks for 0, which a
-    5th-order Fourier series cannot hold over an interval; 3° is within the foot's sway."""
-    absolute: Literal["slack", "smooth"] = "slack"
-    """The criterion's absolute values as exact slack variables (default) or as the smooth
-    ``sqrt(x² + ε²)``, with which IPOPT did not converge (kept for the SLSQP baseline)."""
-    smoothing: float = 1e-3
-    """Relative width of the smooth |x| (:mod:`walk3d.problem.criteria`)."""
-    balance_split: bool = False
-    """Whether the balance stage shares the reaction between the feet in double support as the
-    full stage does. Off: it saved no time over the starts measured (docs/solver.md)."""
-    arm_walking_ranges: bool = True
-    """Narrow shoulder and elbow ranges to those of walking (:mod:`walk3d.problem.ranges`)."""
-    leg_walking_ranges: bool = True
-    """Narrow the knee to flexion of at most 90° (:mod:`walk3d.problem.ranges`): no kneeling
-    or squatting postures."""
-    rollover_s: tuple[float, ...] | None = None
-    """Calibrated roll-over knots (``sin(θ/2)`` of the foot rotation; ``walk3d calibrate``).
-    None: the default arc roll-over scaled by foot length."""
-    rollover_ankle: tuple[tuple[float, float, float], ...] | None = None
-    """Ankle displacement (m) at each calibrated roll-over knot."""
-    transition_ratios: tuple[float, float, float, float] | None = None
-    """Calibrated ``(μ_x, μ_z, ϖ_x, ϖ_y)`` of Eqs. 7–8 (right-foot signs). None: read at heel
-    strike from the total reaction (:mod:`walk3d.contact.transition`)."""
-    handover: bool = True
-    """Whether the chain's root passes from the trailing to the leading foot over double support
-    (:mod:`walk3d.problem.gait`), so that velocities are continuous at heel strike and OpenSim's
-    inverse dynamics needs no residual force there (docs/opensim.md). On by default so results
-    replay in OpenSim; T and Td are still predicted with the paper's switch at heel strike, on
-    which the criterion's weights were tuned (:mod:`walk3d.solve.landing`)."""
-    passive: bool = False
-    """Passive joint moments, range stops and damping (:mod:`walk3d.problem.passive`): C_tor and
-    the effort see the active part. Off: the paper's joints; then left out of the model keys."""
-
-    passive_total: bool = False
-    """With ``passive``, add the whole joint's passive moment at the hip, knee and ankle
-    (Anderson et al. 2007, :mod:`walk3d.problem.passive`). Off: the range stops alone."""
-    heel_rise: float | None = None
-    """Fraction of the root foot's stance after which its heel may rise (the forefoot rocker):
-    about 0.6 in people (heel-off at 61 % of stance, Chiu et al. 2013). None: flat in single
-    stance, as the paper."""
-    load_ramp: float | None = None
-    """Initial slope ``s`` of the trailing foot's share ``(1 − x)²(1 + (2 − s)x)``, ``x`` = time
-    since heel strike / Td (:mod:`walk3d.contact.phases`), in [0, 3]: the leading foot loads with
-    a slope, as measured. None: the paper's ``exp(−(2x)³)``, which starts flat."""
-    changes: Changes = Changes()
-    """What-if changes to the body and joints (:mod:`walk3d.problem.whatif`); none: normal."""
-    full_cycle: bool = False
-    """Solve the full cycle, each side with its own series (:mod:`walk3d.problem.full_cycle`),
-    after the half cycle. Off: the paper's half cycle, unless a change is one-sided."""
-    equal_steps: bool = False
-    """Hold the full cycle's steps equal in length (off: the stride splits freely; what-if.md)."""
-
-    @field_validator("criterion")
-    @classmethod
-    def _criterion(cls, v: str) -> str:
-        return terms.canonical(v)
-
-    @model_validator(mode="after")
-    def _ranges(self) -> ModelSettings:
-        self._check([
-            (0 < self.friction <= 2, f"friction must be in (0, 2], got {self.friction}"),
-            (0 <= self.cop_margin <= 0.05,
-             f"cop_margin must be in [0, 0.05] m, got {self.cop_margin}"),
-            (0 <= self.swing_clearance <= 0.05,
-             f"swing_clearance must be in [0, 0.05] m, got {self.swing_clearance}"),
-            (0 <= self.free_moment_radius <= 0.1,
-             f"free-moment radius must be in [0, 0.1] m, got {self.free_moment_radius}"),
-            (0 < self.smoothing < 0.1, f"smoothing must be in (0, 0.1), got {self.smoothing}"),
-            (self.passive or not self.passive_total, "passive_total needs passive on"),
-            (self.heel_rise is None or 0.3 <= self.heel_rise <= 1,
-             f"heel_rise must be in [0.3, 1] of stance, got {self.heel_rise}"),
-            (self.load_ramp is None or 0 <= self.load_ramp <= 3,
-             f"load_ramp must be in [0, 3], got {self.load_ramp}"),
-            ((self.rollover_s is None) == (self.rollover_ankle is None)
-             and (self.rollover_s is None or len(self.rollover_s) == len(self.rollover_ankle)),
-             "rollover_s and rollover_ankle go together, one ankle point per knot"),
-        ])  # fmt: skip
-        return self
-
-
-class SolverSettings(_Group):
+class SolverSettings(SettingsGroup):
     """How the problem is solved. The stages and their order are :mod:`walk3d.solve.plan`'s;
     docs/solver.md has the measurements behind each default."""
 
@@ -297,12 +187,7 @@ class SolverSettings(_Group):
         return {} if checks is None else dict(self._check_pairs(checks))
 
 
-OPT_IN: dict[str, Any] = {"passive": False, "passive_total": False, "heel_rise": None,
-                          "load_ramp": None, "changes": Changes(), "full_cycle": False,
-                          "equal_steps": False}  # fmt: skip
-"""Model settings whose value here leaves them out of the model-cache and atlas keys: the
-problem of a walk3d before they existed."""
-GROUPS: dict[str, type[_Group]] = {
+GROUPS: dict[str, type[SettingsGroup]] = {
     "gait": GaitSettings,
     "model": ModelSettings,
     "solver": SolverSettings,

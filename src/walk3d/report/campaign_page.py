@@ -13,7 +13,7 @@ from pathlib import Path
 from walk3d.campaign import store
 from walk3d.campaign.ranking import BEST_DIR, best_seed, rank
 from walk3d.io.errors import DataFileError
-from walk3d.problem import terms
+from walk3d.model import terms
 from walk3d.problem.settings import flat_settings
 from walk3d.report import html as h
 from walk3d.report.norms import Norms

@@ -12,8 +12,8 @@ from __future__ import annotations
 from os import PathLike
 from pathlib import Path
 
+from walk3d.model import terms
 from walk3d.plots.cycles import Panel, cycle_figure
-from walk3d.problem import terms
 from walk3d.problem.settings import recorded_settings
 from walk3d.report import html as h
 from walk3d.report.norms import Norms
@@ -132,7 +132,7 @@ def _criteria(summary: dict) -> str:
     crit = recorded_settings(summary).get("criterion")
     minimized = terms.label(crit) if isinstance(crit, str) else None
     rows = []
-    for key in ("C_tor", "C_en", *(f"C_{k}" for k in terms.EXTRAS)):
+    for key in terms.reported(objective):
         c = objective.get(key)
         if not isinstance(c, dict):
             continue

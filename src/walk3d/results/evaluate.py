@@ -18,11 +18,13 @@ from walk3d.contact.phases import GaitPhases
 from walk3d.contact.transition import apply_ratios, centre_of_pressure
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import point_triple, root_foot_triples, stack_q, stack_v
-from walk3d.problem import layout, terms, whatif
-from walk3d.problem.criteria import node_terms, split_by_axis
-from walk3d.problem.gait import GaitState, dof_moment_terms, evaluate, strength_weights
-from walk3d.problem.passive import active_state
-from walk3d.problem.ranges import joint_ranges
+from walk3d.model import terms, whatif
+from walk3d.model.criteria import node_terms, split_by_axis
+from walk3d.model.node import node_model
+from walk3d.model.ranges import joint_ranges
+from walk3d.model.state import GaitState, evaluate, strength_weights
+from walk3d.problem import layout
+from walk3d.problem.jerk import jerk_per_dof, jerk_per_dof_full
 from walk3d.problem.settings import PredictionSettings, ratios_for
 from walk3d.results.angles import ball_joint_angles
 from walk3d.results.prediction import Prediction
@@ -153,9 +155,8 @@ def evaluate_cycle(
     dof_w = np.zeros((n, 24))
     contact = 0.0
     axes = None
-    extra = {name: np.zeros((n, 3)) for name in terms.EXTRAS if name != "jerk"}
-    weak = bool(whatif.weakened_dofs(body, settings.model.changes))
-    if weak:
+    extra = {name: np.zeros((n, 3)) for name in terms.node_names()}
+    if whatif.weakened_dofs(body, settings.model.changes):
         extra["overload"] = np.zeros((n, 3))
     viol: list[dict[str, float]] = []
     coords = _coords(x, t, T)
@@ -174,18 +175,13 @@ def evaluate_cycle(
         for k, side in enumerate(("r", "l")):
             force[idx, k] = stack_v(st.feet[side][0])
             mom_o[idx, k] = stack_v(st.feet[side][1])
-        coords_b = [tuple(v[idx] for v in c) for c in coords]
-        q_b = [c[0] for c in coords_b[:24]]
-        total = settings.model.passive_total
-        act = active_state(body, st, q_b, total) if settings.model.passive else st  # criteria's
-        m, w, axes = dof_moment_terms(body, act)
-        dof_m[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in m])
-        dof_w[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in w])
-        it = terms.integrands(body, coords_b, st.pose, st.total[0], m)
-        if weak:
-            it["overload"] = whatif.overload(body, settings.model.changes, m, q_b, axes)
-        for name, parts in it.items():
-            extra[name][idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in parts])
+        nm = node_model(body, settings.model, [tuple(v[idx] for v in c) for c in coords], st)
+        axes = nm.axes
+        dof_m[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in nm.moments])
+        dof_w[idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in nm.rates])
+        parts = nm.terms | ({} if nm.overload is None else {"overload": nm.overload})
+        for name, values in parts.items():
+            extra[name][idx] = np.column_stack([np.broadcast_to(v, tb.shape) for v in values])
         ds = ph.double_support_mask(tb) & (
             ph.time_since_heel_strike(tb) <= settings.gait.double_support
         )
@@ -211,7 +207,7 @@ def evaluate_cycle(
         crit[name] = {"C_tor": split_by_axis(tor_i, axes), "C_en": split_by_axis(en_i, axes)}
         for term, v in extra.items():
             crit[name][f"C_{term}"] = split_by_axis(np.sum(v[periodic], axis=0) * dt, [0, 1, 2])
-        jerk = (terms.jerk_per_dof_full if np.size(x) == layout.N_XF else terms.jerk_per_dof)(x, T)
+        jerk = (jerk_per_dof_full if np.size(x) == layout.N_XF else jerk_per_dof)(x, T)
         crit[name]["C_jerk"] = split_by_axis(jerk, axes)
         if np.size(x) == layout.N_XF:  # the full cycle's unequal steps (SLA², dimensionless)
             sla = _step_shift(x) / (settings.gait.stride_length / 2)
@@ -219,7 +215,7 @@ def evaluate_cycle(
         crit[name]["C_weighted"] = weighted_total(settings.model.criterion, crit[name])
     coord_angles = np.column_stack([2 * np.arcsin(np.clip(c[0], -1, 1)) for c in coords[:24]])
     violations = summarize_violations(
-        viol, range_excess_deg(coord_angles, joint_ranges(body, settings))
+        viol, range_excess_deg(coord_angles, joint_ranges(body, settings.model))
     )
     arrays = {
         "time": t,

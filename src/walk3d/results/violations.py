@@ -38,7 +38,7 @@ def _excess(rows, mask) -> float:
 
 def block_violations(body, model, st, wf: float, other_loaded: np.ndarray) -> dict[str, float]:
     """Worst excess per kind over one root block of samples (``st`` from
-    :func:`walk3d.problem.gait.evaluate`); ``other_loaded`` marks the samples where the
+    :func:`walk3d.model.state.evaluate`); ``other_loaded`` marks the samples where the
     non-root foot is on the floor (double support), elsewhere it swings."""
     everywhere = np.ones_like(other_loaded, dtype=bool)
     out = dict.fromkeys(LIMITS, 0.0)

@@ -26,8 +26,10 @@ import numpy as np
 
 from walk3d.io.checks import finite_number, increasing, read_json_object, require_finite
 from walk3d.io.errors import DataFileError
-from walk3d.problem import descriptors, layout, terms
-from walk3d.problem.settings import OPT_IN, PredictionSettings
+from walk3d.model import terms
+from walk3d.model.settings import keyed_fields, opt_in
+from walk3d.problem import descriptors, layout
+from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.revision import SOLVE_REVISION
 
 __all__ = ["ATLAS_DIR", "FORMAT", "Atlas", "AtlasStart", "atlas_path", "candidates",
@@ -108,14 +110,11 @@ class AtlasStart:
 
 
 def settings_key(settings: PredictionSettings) -> dict:
-    """What an atlas entry depends on besides speed: the model settings (criterion included),
-    the sex and the time grid. ``handover`` and ``passive`` are left out when off, as in
-    atlases made before the settings existed (the same problem)."""
-    model = settings.model.model_dump(mode="json")
+    """What an atlas entry depends on besides speed: the model settings (criterion included)
+    but those at their off value (:func:`walk3d.model.settings.keyed_fields`, as in atlases
+    made before the setting existed), the sex and the time grid."""
+    model = keyed_fields(settings.model, mode="json")
     model["criterion"] = terms.preset_name(settings.model.criterion) or model["criterion"]
-    for flag in ("handover", *OPT_IN):  # off: as in atlases made before the setting existed
-        if model[flag] in (False, None) or flag == "changes" and not settings.model.changes:
-            del model[flag]
     return {"sex": settings.gait.sex, "model": model, "nodes": settings.solver.nodes,
             "ds_intervals": descriptors.ds_intervals(settings.solver.nodes),
             "heel_strike_nodes": settings.solver.heel_strike_nodes}  # fmt: skip
@@ -192,7 +191,7 @@ def _usable(atlas: Atlas, ref: PredictionSettings) -> str | None:
     theirs = {**atlas.settings, "model": dict(atlas.settings.get("model", {}))}
     ours["model"]["criterion"] = theirs["model"].get("criterion")
     for key in (ours, theirs):
-        for flag in ("handover", *OPT_IN):
+        for flag in opt_in():
             key["model"].pop(flag, None)
     if theirs != ours:
         return f"the atlas {atlas.path.name} solves other model or grid settings"

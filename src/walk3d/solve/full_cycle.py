@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from walk3d.model.whatif import STEP_ASYMMETRY_COST
 from walk3d.problem import layout, similarity
 from walk3d.problem.full_cycle import (
     FullProblem,
@@ -25,7 +26,6 @@ from walk3d.problem.full_cycle import (
 from walk3d.problem.layout import full_coordinate_maps
 from walk3d.problem.schedule import loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings, body_for
-from walk3d.problem.whatif import STEP_ASYMMETRY_COST
 from walk3d.solve.ipopt import SolveOutcome, _z_from_x, full_stage_start
 from walk3d.solve.options import ipopt_options
 from walk3d.solve.plan import SUCCESS
@@ -153,7 +153,7 @@ def solve_full_cycle(
 ) -> FullCycleOutcome:
     """Solve ``settings`` (T and Td given) on the full cycle, started from ``half``, a
     half-cycle outcome of the same gait (with :meth:`Changes.half_cycle
-    <walk3d.problem.whatif.Changes.half_cycle>`). ``start``: the ``X`` (subject's units) to start
+    <walk3d.model.whatif.Changes.half_cycle>`). ``start``: the ``X`` (subject's units) to start
     from instead of ``half`` mirrored (the steps' variables still come from ``half``)."""
     if settings.gait.free:
         raise ValueError("the full-cycle problem needs T and Td (solve the half cycle first)")

@@ -16,7 +16,8 @@ import casadi as ca
 import numpy as np
 
 from walk3d.contact.phases import GaitPhases
-from walk3d.problem import descriptors, layout, similarity, terms
+from walk3d.model import terms
+from walk3d.problem import descriptors, layout, similarity
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import upright
 from walk3d.solve.plan import END, SUCCESS, Plan, Stage, run_plan

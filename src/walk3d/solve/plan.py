@@ -20,7 +20,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
-from walk3d.problem import terms
+from walk3d.model import terms
 from walk3d.problem.settings import SolverSettings
 
 __all__ = ["END", "SUCCESS", "Plan", "Stage", "default_plan", "run_plan"]

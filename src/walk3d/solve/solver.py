@@ -19,6 +19,7 @@ import casadi as ca
 import numpy as np
 
 from walk3d.body.model import BodyModel
+from walk3d.model.settings import node_fields
 from walk3d.problem import derivatives, free_nlp, nlp, similarity
 from walk3d.problem.bounds import Bounds, bounded_rows, bounds
 from walk3d.problem.layout import NlpLayout
@@ -35,9 +36,9 @@ WARM_START = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-6,
 """IPOPT's options for a start from a primal-dual point near the optimum (an atlas blend): its
 multipliers are used and barely moved off the bounds, and the barrier starts small. From the
 blend at 1.3806 m/s, 8 iterations instead of 25 to the same optimum (docs/starts.md)."""
-COMPILED_NODES = {"balance": nlp._node_name(False, True, False),
-                  "full": nlp._node_name(True, True, False),
-                  "full_hs": nlp._node_name(True, True, True)}  # fmt: skip
+COMPILED_NODES = {"balance": nlp.node_name(False, True, False),
+                  "full": nlp.node_name(True, True, False),
+                  "full_hs": nlp.node_name(True, True, True)}  # fmt: skip
 """Node functions whose derivatives can be compiled to C (:func:`compile_solver`), by NLP kind:
 the mapped nodes of the balance and full NLPs, and the full NLP's node 0 (``<kind>_hs``, with
 the heel-strike rows; otherwise about 2 s of every process's set-up). The posture NLP's
@@ -182,17 +183,12 @@ class Solver:
             return self._built["constraints"]  # type: ignore[return-value]
 
 
-def _model_key(body: BodyModel, model: ModelSettings) -> str:
-    """The model cache key: the body and the model settings, all that
+def model_key(body: BodyModel, model: ModelSettings) -> str:
+    """The model cache key: the body and the settings that shape the node functions
+    (:func:`walk3d.model.settings.node_fields`), all that
     :func:`walk3d.problem.nlp.model_functions` receives. The gait descriptors reach the node
     functions as node parameters, so one entry serves every V, T and Td of a body."""
-    fields = model.model_dump()
-    for name in ("heel_rise", "load_ramp", "changes", "full_cycle", "equal_steps"):  # not here
-        del fields[name]
-    for name in ("passive", "passive_total"):  # off: the key before the setting existed
-        if not fields[name]:
-            del fields[name]
-    return model_cache.model_key(fields, body)
+    return model_cache.model_key(node_fields(model), body)
 
 
 def _model_functions(
@@ -200,7 +196,7 @@ def _model_functions(
 ) -> model_cache.LazyFunctions:
     """The model's SX functions (:func:`walk3d.problem.nlp.model_functions`), each made on first
     use, from the disk cache when ``use_cache`` and it has the function."""
-    key = _model_key(body, model) if use_cache else None
+    key = model_key(body, model) if use_cache else None
     return model_cache.LazyFunctions(
         nlp.MODEL_FUNCTIONS, lambda name: nlp.model_functions(body, model, (name,))[name], key
     )
@@ -213,7 +209,7 @@ def _compiled_key(fns: dict[str, ca.Function], settings: PredictionSettings, kin
     takes minutes. The code is the source of the two functions that build the blocks, not
     their whole module, so that other edits there keep the libraries."""
     code = [inspect.getsource(f) for f in (derivatives.derivative_chunks,
-                                           derivatives._node_symbols)]  # fmt: skip
+                                           derivatives.node_symbols)]  # fmt: skip
     made_of = (fns[COMPILED_NODES[kind]].serialize(), _crit(settings), CHUNKS, ca.__version__,
                *code)  # fmt: skip
     return compiled.library_key(repr(made_of), compiled.flags())

@@ -16,7 +16,8 @@ import numpy as np
 
 import walk3d.solve.atlas as atlas
 import walk3d.solve.ipopt as ipopt
-from walk3d.problem import descriptors, layout, similarity, terms
+from walk3d.model import terms
+from walk3d.problem import descriptors, layout, similarity
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.ipopt import SolveOutcome, build_solver, descriptor_stage, merged, warm_stage
 from walk3d.solve.plan import Stage

@@ -21,8 +21,8 @@ from __future__ import annotations
 import numpy as np
 
 from walk3d.body.model import BodyModel
-from walk3d.problem.criteria import node_terms, split_by_axis
-from walk3d.problem.gait import strength_weights
+from walk3d.model.criteria import node_terms, split_by_axis
+from walk3d.model.state import strength_weights
 from walk3d.validation.reference import Reference
 
 __all__ = ["criteria_from_reference", "table3_rows"]

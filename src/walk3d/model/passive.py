@@ -4,7 +4,7 @@
 form; parameters of PredSim ``default_coord_lim_torq_coeff.csv`` = 3dpredictsim
 ``PassiveMomentsData.m``, docs/stance-model.md §2.2), in walk3d's anatomical signs on both sides.
 ``θ = 2 asin(q)`` (exact for hinge and universal DoFs, the rotation vector's component for ball
-joints); ``θ̇`` is the DoF's angular rate (:func:`walk3d.problem.gait.dof_moment_terms`). With the
+joints); ``θ̇`` is the DoF's angular rate (:func:`walk3d.model.state.dof_moment_terms`). With the
 setting on, C_tor and the effort see ``M_active = M − M_passive``; reported moments stay the net.
 """
 
@@ -15,7 +15,8 @@ from typing import Any
 
 from walk3d import mathops as mo
 from walk3d.body.model import BodyModel
-from walk3d.problem.gait import GaitState
+from walk3d.model.element import Element
+from walk3d.model.state import GaitState
 
 LIMIT_TORQUES: dict[str, tuple[float, float, float, float, float, float]] = {
     "hip_flexion": (-2.44, 5.05, 1.51, -21.88, -0.6981, 1.81),
@@ -103,3 +104,8 @@ def active_state(
             i += 1
         moments.append(tuple(m))
     return dataclasses.replace(st, moments=moments)
+
+
+ELEMENT = Element("passive", lambda body, model, st, values: active_state(
+    body, st, values, model.passive_total))  # fmt: skip
+"""The passive joints as a model element: on with ``ModelSettings.passive``."""

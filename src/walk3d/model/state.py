@@ -40,7 +40,7 @@ from walk3d.kinematics.forward import (
     point_triple,
     root_foot_triples,
 )
-from walk3d.problem.layout import I_FOOT_L, I_FOOT_R
+from walk3d.model.coordinates import I_FOOT_L, I_FOOT_R
 
 
 @dataclass(frozen=True)

@@ -3,14 +3,14 @@
 import numpy as np
 
 from walk3d.body.model import build_body
-from walk3d.problem.ranges import joint_ranges
+from walk3d.model.ranges import joint_ranges
 from walk3d.problem.settings import PredictionSettings
 
 
 def test_arm_and_knee_ranges_are_narrowed_inside_the_anatomical_ones_and_nothing_else_changes():
     body = build_body()
     anatomical = np.concatenate([j.range for j in body.joints])
-    walking = joint_ranges(body, PredictionSettings())
+    walking = joint_ranges(body, PredictionSettings().model)
     assert np.all(walking[:, 0] >= anatomical[:, 0]) and np.all(walking[:, 1] <= anatomical[:, 1])
     changed = np.flatnonzero(np.any(walking != anatomical, axis=1))
     names = [j.name for j in body.joints for _ in range(j.n_dof)]
@@ -30,10 +30,12 @@ def test_arm_and_knee_ranges_are_narrowed_inside_the_anatomical_ones_and_nothing
     for knee in ("knee_r", "knee_l"):
         np.testing.assert_allclose(np.degrees(walking[names.index(knee)]), [-5.0, 90.0])
         np.testing.assert_allclose(np.degrees(anatomical[names.index(knee)]), [-5.0, 135.0])
-    arms_only = joint_ranges(body, PredictionSettings(leg_walking_ranges=False))
+    arms_only = joint_ranges(body, PredictionSettings(leg_walking_ranges=False).model)
     np.testing.assert_array_equal(
         arms_only[names.index("knee_r")], anatomical[names.index("knee_r")]
     )
     np.testing.assert_array_equal(arms_only[i_sh], walking[i_sh])
-    off = joint_ranges(body, PredictionSettings(arm_walking_ranges=False, leg_walking_ranges=False))
+    off = joint_ranges(
+        body, PredictionSettings(arm_walking_ranges=False, leg_walking_ranges=False).model
+    )
     np.testing.assert_array_equal(off, anatomical)

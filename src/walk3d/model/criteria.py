@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from walk3d import mathops as mo
+from walk3d.body.model import BodyModel
 
 POWER_SCALE_W = 50.0
 
@@ -39,6 +40,22 @@ def node_terms(
             tor.append(a[i] * mo.sqrt(m * m + eps_m**2) + b[i] * m)
             en.append(mo.sqrt(p * p + eps_p**2))
     return tor, en
+
+
+def signed_integrands(
+    body: BodyModel, base: str, moments: list[Any], rates: list[Any]
+) -> tuple[list[Any], list[Any]]:
+    """Per DoF, ``(u⁺, u⁻)`` with ``max(u⁺, u⁻)`` the exact integrand of the ``base`` criterion
+    (``tor`` or ``en``), for slack variables. C_tor: ``u⁺ = M/M⁺``, ``u⁻ = -M/M⁻``
+    (direction-dependent strength); C_en: ``±P/P_ref``, ``P_ref`` = :data:`POWER_SCALE_W`."""
+    if base == "tor":
+        pos = np.concatenate([j.strength_pos for j in body.joints])
+        neg = np.concatenate([j.strength_neg for j in body.joints])
+        return [m / pos[i] for i, m in enumerate(moments)], [
+            -m / neg[i] for i, m in enumerate(moments)
+        ]
+    powers = [m * w / POWER_SCALE_W for m, w in zip(moments, rates, strict=True)]
+    return powers, [-p for p in powers]
 
 
 def split_by_axis(values: np.ndarray, axes: list[int]) -> dict[str, float]:

@@ -6,8 +6,10 @@ import pytest
 from helpers import random_decision
 
 from walk3d.body.model import build_body
-from walk3d.problem import effort, nlp, passive, terms
-from walk3d.problem.gait import dof_moment_terms
+from walk3d.model import effort, passive, terms
+from walk3d.model.settings import node_fields
+from walk3d.model.state import dof_moment_terms
+from walk3d.problem import nlp
 from walk3d.problem.settings import ModelSettings, PredictionSettings
 from walk3d.results.evaluate import _coords, evaluate_cycle
 from walk3d.solve import atlas, solver
@@ -178,8 +180,8 @@ def test_passive_off_leaves_the_node_function_and_the_keys_as_they_were(monkeypa
     g, f, args = _node(body, crit, False)
     # the call before the effort existed: no moments reach the terms
     old = terms.integrands
-    monkeypatch.setattr(terms, "integrands", lambda b, c, pose, force, moments=None: old(
-        b, c, pose, force))  # fmt: skip
+    monkeypatch.setattr(terms, "integrands", lambda b, c, pose, force, moments=None, wanted=None:
+                        old(b, c, pose, force, None, wanted))  # fmt: skip
     g_old, f_old, old_args = _node(body, crit, False)
     monkeypatch.undo()
     np.testing.assert_array_equal(f, f_old)
@@ -189,22 +191,17 @@ def test_passive_off_leaves_the_node_function_and_the_keys_as_they_were(monkeypa
     assert np.max(np.abs(g_on[slack] - g[slack])) > 1e-4  # control: passive on changes the rows
     # the cache and atlas keys are those of the settings without the field
     s = PredictionSettings()
-    dumped = s.model.model_dump()
     opt_in = {"passive", "passive_total", "heel_rise", "load_ramp", "changes", "full_cycle",
               "equal_steps"}  # fmt: skip
-    for name in opt_in:
-        del dumped[name]
-    from walk3d.solve import model_cache
-
-    assert solver._model_key(body, s.model) == model_cache.model_key(dumped, body)
+    assert not opt_in & set(node_fields(s.model))
     assert not opt_in & set(atlas.settings_key(s)["model"])
     equal = PredictionSettings(equal_steps=True)  # the full cycle's bounds only
-    assert solver._model_key(body, equal.model) == solver._model_key(body, s.model)
+    assert solver.model_key(body, equal.model) == solver.model_key(body, s.model)
     # control: a what-if change is in the atlas key (its body is in the model key)
     braced = PredictionSettings(changes={"strength": {"ankle": 0.5}})
     assert "changes" in atlas.settings_key(braced)["model"]
     on = PredictionSettings(passive=True)
-    assert solver._model_key(body, on.model) != solver._model_key(body, s.model)
+    assert solver.model_key(body, on.model) != solver.model_key(body, s.model)
     assert atlas.settings_key(on)["model"]["passive"] is True
 
 

@@ -6,7 +6,8 @@ from helpers import random_decision
 
 from walk3d import G
 from walk3d.body.model import build_body
-from walk3d.problem import layout, nlp, terms
+from walk3d.model import builtin_terms, terms
+from walk3d.problem import jerk, layout, nlp
 from walk3d.problem.settings import PredictionSettings
 from walk3d.results.evaluate import evaluate_cycle
 
@@ -60,13 +61,13 @@ def test_accel_term_equals_the_fourier_integral(cycle):
     T = s.gait.period
     t = np.linspace(0.0, T, 4001)[:-1]
     a2 = layout.coordinate_maps(t, T)[2] @ x  # (time, 26) coordinate accelerations
-    exact = np.mean(np.sum((2 * a2[:, :24] / terms.ACCEL_REF) ** 2, axis=1) / 24) * T
+    exact = np.mean(np.sum((2 * a2[:, :24] / builtin_terms.ACCEL_REF) ** 2, axis=1) / 24) * T
     got = ev.criteria["C_accel"]["total"]
     assert got == pytest.approx(exact, rel=1e-9)
     # negative control: the rectangle rule on 4 samples is far from exact for 5th harmonics
     t4 = np.linspace(0.0, T, 5)[:-1]
     a4 = layout.coordinate_maps(t4, T)[2] @ x
-    coarse = np.mean(np.sum((2 * a4[:, :24] / terms.ACCEL_REF) ** 2, axis=1) / 24) * T
+    coarse = np.mean(np.sum((2 * a4[:, :24] / builtin_terms.ACCEL_REF) ** 2, axis=1) / 24) * T
     assert abs(coarse - exact) > 1e-3 * exact
 
 
@@ -79,10 +80,10 @@ def test_jerk_term_equals_the_sampled_third_derivative(cycle):
     h = 1e-5
     a_p = layout.coordinate_maps(t + h, T)[2] @ x
     a_m = layout.coordinate_maps(t - h, T)[2] @ x
-    jerk = (a_p - a_m)[:, :24] / (2 * h)
-    sampled = np.mean(np.sum((2 * jerk / terms.JERK_REF) ** 2, axis=1) / 24) * T
+    third = (a_p - a_m)[:, :24] / (2 * h)
+    sampled = np.mean(np.sum((2 * third / builtin_terms.JERK_REF) ** 2, axis=1) / 24) * T
     assert ev.criteria["C_jerk"]["total"] == pytest.approx(sampled, rel=1e-6)
-    q = terms.coefficient_weights(T)
+    q = jerk.coefficient_weights(T)
     assert float(q @ (x * x)) == pytest.approx(sampled, rel=1e-6)
     # negative control: the left limbs' series (shifted half a cycle) counted once, not twice
     once = x.copy()
@@ -93,7 +94,7 @@ def test_jerk_term_equals_the_sampled_third_derivative(cycle):
 def test_every_term_is_reported_with_its_split_and_the_weighted_total(cycle):
     s, _, _, ev = cycle
     c = ev.criteria
-    for name in terms.EXTRAS:
+    for name in terms.names():
         split = c[f"C_{name}"]
         assert split["total"] == pytest.approx(split["x"] + split["y"] + split["z"])
         assert split["total"] > 0
@@ -110,17 +111,17 @@ def test_arms_term_is_the_accel_term_over_the_arm_dofs_on_its_own_scale(cycle):
     a2 = layout.coordinate_maps(t, T)[2] @ x
     arm = [i for i, n in enumerate(body.dof_names) if n.startswith(("arm_", "elbow"))]
     assert len(arm) == 8
-    exact = np.mean(np.sum((2 * a2[:, arm] / terms.ARM_ACCEL_REF) ** 2, axis=1) / 8) * T
+    exact = np.mean(np.sum((2 * a2[:, arm] / builtin_terms.ARM_ACCEL_REF) ** 2, axis=1) / 8) * T
     assert ev.criteria["C_arms"]["total"] == pytest.approx(exact, rel=1e-9)
     legs = [i for i, n in enumerate(body.dof_names) if n.startswith(("hip", "knee"))]
-    other = np.mean(np.sum((2 * a2[:, legs] / terms.ARM_ACCEL_REF) ** 2, axis=1) / 8) * T
+    other = np.mean(np.sum((2 * a2[:, legs] / builtin_terms.ARM_ACCEL_REF) ** 2, axis=1) / 8) * T
     assert other != pytest.approx(exact, rel=1e-6)  # negative control: other DoFs differ
 
 
 def test_spin_is_the_vertical_part_of_the_momentum_term_on_its_own_scale(cycle):
     _, _, _, ev = cycle
     spin, mom = ev.criteria["C_spin"], ev.criteria["C_momentum"]
-    scale = (terms.MOMENTUM_REF / terms.SPIN_REF) ** 2
+    scale = (builtin_terms.MOMENTUM_REF / builtin_terms.SPIN_REF) ** 2
     assert spin["x"] == 0 and spin["z"] == 0
     assert spin["y"] == pytest.approx(mom["y"] * scale, rel=1e-12)
     assert spin["y"] != pytest.approx(mom["total"] * scale, rel=1e-3)  # not the whole momentum
@@ -137,15 +138,15 @@ def test_impact_and_shear_terms_integrate_the_reported_ground_reactions(cycle):
     got = ev.criteria["C_impact"]["total"]
     above = np.maximum(f[:, 1] - 1, 0)
     assert (f[:, 1] < 1).any() and (f[:, 1] > 1).any()  # both sides of body weight occur
-    assert np.sum((above / terms.IMPACT_REF) ** 2) * dt == pytest.approx(got, rel=1e-9)
-    both = np.sum(((f[:, 1] - 1) / terms.IMPACT_REF) ** 2) * dt  # two-sided: not this term
+    assert np.sum((above / builtin_terms.IMPACT_REF) ** 2) * dt == pytest.approx(got, rel=1e-9)
+    both = np.sum(((f[:, 1] - 1) / builtin_terms.IMPACT_REF) ** 2) * dt  # two-sided: not this term
     assert both != pytest.approx(got, rel=1e-3)
     below = np.maximum(1 - f[:, 1], 0)
-    assert np.sum((below / terms.IMPACT_REF) ** 2) * dt == pytest.approx(
+    assert np.sum((below / builtin_terms.IMPACT_REF) ** 2) * dt == pytest.approx(
         ev.criteria["C_sag"]["total"], rel=1e-9
     )
     assert both == pytest.approx(got + ev.criteria["C_sag"]["total"], rel=1e-9)  # the two halves
-    shear = np.sum((f[:, 0] ** 2 + f[:, 2] ** 2) / terms.SHEAR_REF**2) * dt
+    shear = np.sum((f[:, 0] ** 2 + f[:, 2] ** 2) / builtin_terms.SHEAR_REF**2) * dt
     assert ev.criteria["C_shear"]["total"] == pytest.approx(shear, rel=1e-9)
     assert ev.criteria["C_shear"]["y"] == 0
 
@@ -183,7 +184,7 @@ def test_angular_momentum_rate_equals_the_ground_moment_about_the_centre_of_mass
     t0, h = ph.heel_strike_r + 0.2, 1e-5
     t = np.array([t0 - h, t0, t0 + h])
     st = ev_mod._state(body, s, ph, x, t, "r", w0=((0, 0, 0), (0, 0, 0)), decay=np.zeros(3))
-    hm = np.array(terms.angular_momentum(body, st.pose))  # (3, 3 times)
+    hm = np.array(builtin_terms.angular_momentum(body, st.pose))  # (3, 3 times)
     rate = (hm[:, 2] - hm[:, 0]) / (2 * h)
     m = np.array([seg.mass for seg in body.segments])
     com = np.array([[c[0][k][1] for k in range(3)] for c in st.pose.com])  # (13, 3) at t0

@@ -9,9 +9,10 @@ from helpers import random_decision
 
 from walk3d.body.changes import apply_changes
 from walk3d.body.model import build_body
-from walk3d.problem import effort, nlp, whatif
+from walk3d.model import effort, whatif
+from walk3d.model.whatif import Changes, overload, weakened_dofs
+from walk3d.problem import nlp
 from walk3d.problem.settings import ModelSettings, PredictionSettings, body_for
-from walk3d.problem.whatif import Changes, overload, weakened_dofs
 from walk3d.results.evaluate import evaluate_cycle
 
 WEAK = Changes(strength={"ankle_r": 0.5})

@@ -1,20 +1,10 @@
-"""What settings build besides the problem: the body model (with a calibrated roll-over), the
-calibrated transition ratios, and the cores a process may use. Importable from
+"""The subject the settings describe: the body model (with a calibrated roll-over and the
+what-if changes) and the calibrated transition ratios. Importable from
 :mod:`walk3d.problem.settings` as well."""
 
 from __future__ import annotations
 
 from typing import Any
-
-
-def available_cores() -> int:
-    """CPU cores this process may run on (its affinity mask where the OS has one)."""
-    import os
-
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # macOS, Windows
-        return max(1, os.cpu_count() or 1)
 
 
 def body_for(settings: Any) -> Any:

@@ -44,8 +44,6 @@ EFFORT3_REF = 0.32
 """The cube root of the mean ``u³`` on the same gait (0.317), for ``effort3``."""
 CUBE_EPS = 1e-6
 """The smooth cube ``(v² + ε)^{3/2} − ε^{3/2}`` of ``effort3`` (``v = u / EFFORT3_REF``)."""
-NAMES = ("effort", "effort3")
-"""The terms of this module, in the order :mod:`walk3d.problem.terms` reports them."""
 
 
 def angle_factor(theta: Any, c2: float, c3: float) -> Any:
@@ -77,24 +75,3 @@ def ratio(body: BodyModel, i: int, moment: Any, value: Any) -> Any:
 def ratios(body: BodyModel, moments: list[Any], values: list[Any]) -> list[Any]:
     """:func:`ratio` of every DoF, from the DoF moments (N·m) and the coordinate values."""
     return [ratio(body, i, m, values[i]) for i, m in enumerate(moments)]
-
-
-def integrands(
-    body: BodyModel, moments: list[Any], values: list[Any], axes: list[int]
-) -> dict[str, tuple[Any, Any, Any]]:
-    """``effort`` and ``effort3`` per s, each split by DoF axis ``(x, y, z)`` (``axes``: each
-    DoF's 0, 1, 2 label), from the active DoF moments and the coordinate values."""
-    zero = 0.0 * moments[0]
-    sq, cube = [zero, zero, zero], [zero, zero, zero]
-    n = len(moments)
-    for k, u in zip(axes, ratios(body, moments, values), strict=True):
-        sq[k] = sq[k] + (u / EFFORT_REF) ** 2 / n
-        v2 = (u / EFFORT3_REF) ** 2
-        cube[k] = cube[k] + ((v2 + CUBE_EPS) ** 1.5 - CUBE_EPS**1.5) / n
-    return {"effort": tuple(sq), "effort3": tuple(cube)}
-
-
-def reference_ratio(u: np.ndarray, p: int) -> float:
-    """``(mean u^p)^{1/p}`` over all entries: the reference scale that makes the mean of
-    ``(u / ref)^p`` equal 1 (how :data:`EFFORT_REF` and :data:`EFFORT3_REF` were measured)."""
-    return float(np.mean(np.abs(np.asarray(u, dtype=float)) ** p) ** (1.0 / p))

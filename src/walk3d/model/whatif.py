@@ -13,7 +13,7 @@ from pydantic import BaseModel, ConfigDict, field_validator, model_validator
 from walk3d import mathops as mo
 from walk3d.body.changes import check_changes, expand, is_one_sided
 from walk3d.body.model import JOINT_NAMES, BodyModel
-from walk3d.problem import effort
+from walk3d.model import effort
 
 __all__ = ["Changes", "overload", "weakened_dofs"]
 
@@ -132,7 +132,7 @@ def overload(
 ) -> tuple[Any, Any, Any]:
     """The weakened joints' moments over their strengths, per s, split by DoF axis ``(x, y,
     z)``: ``W Σ max(0, u_i − 1)²`` (smoothly), ``u_i = |M_i| / M_max,i(θ_i)`` with the weakened,
-    angle-dependent strength (:func:`walk3d.problem.effort.ratio`), so that a weak muscle
+    angle-dependent strength (:func:`walk3d.model.effort.ratio`), so that a weak muscle
     cannot hold much more than it can (C_tor, linear in ``u``, only makes its moments dearer).
     Zeros with no weakened joint. ``moments``: the 24 active DoF moments, N·m; ``values``: the
     24 coordinate values; ``axes``: each DoF's axis label."""
