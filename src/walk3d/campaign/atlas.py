@@ -28,7 +28,7 @@ import casadi as ca
 import numpy as np
 
 from walk3d.constants import __version__
-from walk3d.io._atomic import atomic_path, atomic_write_text
+from walk3d.io.atomic import atomic_path, atomic_write_text
 from walk3d.problem import descriptors, layout, similarity, terms
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import SOLVE_REVISION

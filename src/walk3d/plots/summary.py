@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from walk3d.constants import G
-from walk3d.io._atomic import atomic_write
+from walk3d.io.atomic import atomic_write
 from walk3d.results.angles import pelvis_angles
 
 if TYPE_CHECKING:

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from walk3d.io._atomic import atomic_path
+from walk3d.io.atomic import atomic_path
 from walk3d.plots.animation import AnimationFrames, animation_frames
 
 if TYPE_CHECKING:

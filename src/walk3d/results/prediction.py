@@ -47,7 +47,7 @@ import numpy as np
 
 from walk3d import outputs
 from walk3d.body.model import BodyModel
-from walk3d.io._atomic import atomic_folder, atomic_write_bytes, atomic_write_text
+from walk3d.io.atomic import atomic_folder, atomic_write_bytes, atomic_write_text
 from walk3d.io.checks import (
     plain_file_name,
     read_json_object,

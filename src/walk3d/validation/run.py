@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from walk3d.body.model import build_body
-from walk3d.io._atomic import atomic_folder
+from walk3d.io.atomic import atomic_folder
 from walk3d.io.checks import positive_numbers
 from walk3d.io.cycle_table import read_cycle_table
 from walk3d.io.storage import read_storage
