@@ -97,7 +97,7 @@ def body(
     console.print(j)
 
 
-def _calibration_fields(path: str | None) -> dict:
+def calibration_fields(path: str | None) -> dict:
     """Settings fields from a calibration file, or one error line and exit 2."""
     if path is None:
         return {}
@@ -223,7 +223,7 @@ def predict(
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads, max_iter=max_iter,
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library, handover=handover, descriptors_from=descriptors_from,
-        **_calibration_fields(calibration),
+        **calibration_fields(calibration),
         **what_if.changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
     )  # fmt: skip
     from walk3d.io.errors import OutputWriteError
@@ -360,7 +360,7 @@ def compile_model(
     settings = settings_from_options(
         criterion, "ipopt", 0, **gait_fields(speed, period, double_support, height),
         mass=mass, height=height, sex=sex, nodes=nodes, handover=handover,
-        **_calibration_fields(calibration),
+        **calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.cli.compile import compile_with_progress
 

@@ -90,12 +90,13 @@ def initial_guess(solver: Solver, seed: int, attempt: int = 0) -> np.ndarray:
     )
     x0[layout.fixed_zero_mask()] = 0.0
     x0[layout.I_HALF_STEP] = 0.08  # m, at the reference stature (solve() solves that problem)
-    return _z_from_x(solver, x0)
+    return lifted_z(solver, x0)
 
 
-def _z_from_x(solver: Solver, x: np.ndarray, s0: tuple[float, ...] | None = None) -> np.ndarray:
-    """``z`` with the coefficients ``x`` and the node coordinates lifted from them; with
-    predicted descriptors at ``s0`` (default: the first guess), clipped to their bounds."""
+def lifted_z(solver: Solver, x: np.ndarray, s0: tuple[float, ...] | None = None) -> np.ndarray:
+    """The NLP decision vector ``z`` of the coefficients ``x``: the node coordinates lifted
+    from them and W0 at standing, within the balance stage's bounds; with predicted
+    descriptors, those at ``s0`` (default: the first guess), clipped to their bounds."""
     lay, g = solver.layout, solver.settings.gait
     z = np.zeros(lay.n_z)
     z[lay.z("x")], z[lay.z("w0")] = x, STANDING_W0
@@ -278,7 +279,7 @@ def warm_stage(
     if warm is not None:
         z0, fn = np.asarray(warm["z"], dtype=float), solver.stage(stage, warm=True)
     else:
-        z0 = full_stage_start(solver, _z_from_x(solver, np.asarray(x_ref, dtype=float), s0))
+        z0 = full_stage_start(solver, lifted_z(solver, np.asarray(x_ref, dtype=float), s0))
         fn = solver.stage(stage)
     z, record, duals = _run(fn, solver, z0, stage.name, stage.problem,
                             _listener(on_stage, stage), duals=warm)  # fmt: skip
