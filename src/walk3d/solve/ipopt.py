@@ -15,6 +15,7 @@ from dataclasses import dataclass, field, replace
 import casadi as ca
 import numpy as np
 
+from walk3d.contact import crouch
 from walk3d.contact.phases import GaitPhases
 from walk3d.problem import descriptors, layout, similarity, terms
 from walk3d.problem.settings import PredictionSettings
@@ -203,7 +204,7 @@ def _reject_crouch(solver: Solver, z: np.ndarray, record: dict, note) -> None:
         grid = descriptors.free_grid(solver.settings.solver.nodes)
         tau = np.array(grid.tau(phases.period, phases.double_support), dtype=float)
     hip = upright.midstance_hip_flexion_deg(z, lay, tau, phases)
-    if hip <= upright.HIP_MIDSTANCE_MAX_DEG:
+    if crouch.upright(hip):
         return
     record["optimum_status"], record["status"] = record["status"], upright.CROUCHED
     record["midstance_hip_flexion_deg"] = hip
