@@ -228,19 +228,17 @@ def predict(
     )  # fmt: skip
     from walk3d.io.errors import OutputWriteError
     from walk3d.pipeline import predict as run
+    from walk3d.report.writer import write_report_or_warn
+
+    def run_and_report(on_stage):
+        """The prediction, then its report.html (a page that fails is a warning)."""
+        pred = run(settings, seed, solver, out_dir=out, animate=animate, on_stage=on_stage)
+        write_report_or_warn(out)
+        return pred
 
     try:
         with console.status("walk3d: starting") as status:
-            pred = warned(
-                run,
-                settings,
-                seed,
-                solver,
-                out_dir=out,
-                animate=animate,
-                report=True,
-                on_stage=lambda msg: status.update(f"walk3d: {msg}"),
-            )
+            pred = warned(run_and_report, lambda msg: status.update(f"walk3d: {msg}"))
     except OutputWriteError as exc:
         fail(str(exc), code=EXIT_WRITE)
     s = pred.summary
