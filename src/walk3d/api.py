@@ -17,7 +17,7 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from walk3d.results.prediction import Prediction as _Prediction
+from walk3d.results.prediction import PredictedCycle
 from walk3d.results.prediction import load_result as _load_result
 
 if TYPE_CHECKING:
@@ -31,12 +31,12 @@ __all__ = ["Prediction", "criterion_value", "gait_fields", "load_result", "predi
 _AXES = "xyz"
 
 
-class Prediction(_Prediction):
-    """A predicted gait cycle (:class:`walk3d.results.Prediction`: read-only SI arrays, time
+class Prediction(PredictedCycle):
+    """A predicted gait cycle (:class:`walk3d.results.PredictedCycle`: read-only SI arrays, time
     first) that also tabulates, plots and saves itself."""
 
     @classmethod
-    def of(cls, pred: _Prediction) -> Prediction:
+    def of(cls, pred: PredictedCycle) -> Prediction:
         """The same cycle as this class (arrays shared, read-only)."""
         return pred if isinstance(pred, cls) else cls(**{f.name: getattr(pred, f.name)
                                                          for f in fields(pred)})  # fmt: skip

@@ -17,7 +17,7 @@ from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.asymmetry import asymmetry_or_none
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
 from walk3d.results.gait_checks import realism_figures, walking_checks
-from walk3d.results.prediction import Prediction, check_result_folder, save_prediction
+from walk3d.results.prediction import PredictedCycle, check_result_folder, save_prediction
 from walk3d.solve import SOLVE_REVISION, blas
 from walk3d.solve.landing import LANDING, landing_of
 
@@ -160,7 +160,7 @@ def predict(
     on_stage: Callable[[str], None] | None = None,
     warm_from: np.ndarray | None = None,
     animate: bool = False,
-) -> Prediction:
+) -> PredictedCycle:
     """Predict one gait cycle; write the result folder when ``out_dir`` is given.
     ``warm_from``: another prediction's decision vector (the subject's, ``summary.json``'s
     ``coefficients``) to start from instead of standing (:func:`walk3d.solve.starts.solve_warm`;
@@ -232,7 +232,7 @@ def _warm_up_plots() -> None:
 
 
 def write_result(
-    pred: Prediction,
+    pred: PredictedCycle,
     out_dir: str | Path,
     figure: bool = True,
     body: BodyModel | None = None,
