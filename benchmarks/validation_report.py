@@ -24,7 +24,7 @@ from walk3d.body.model import build_body  # noqa: E402
 from walk3d.calibration.calibrate import calibrate_from_trial  # noqa: E402
 from walk3d.calibration.figures import rollover_figure, transition_figure  # noqa: E402
 from walk3d.io import read_cycle_table, read_storage  # noqa: E402
-from walk3d.io._atomic import atomic_write_text  # noqa: E402
+from walk3d.io.atomic import atomic_write_text  # noqa: E402
 from walk3d.model import terms  # noqa: E402
 from walk3d.problem.settings import recorded_settings  # noqa: E402
 from walk3d.results.prediction import load_result  # noqa: E402

@@ -1,5 +1,5 @@
 """A full disk for the writer tests, without a disk: every walk3d writer syncs a file before it
-moves the file into place (walk3d.io._atomic), and a sync is where a full disk (delayed
+moves the file into place (walk3d.io.atomic), and a sync is where a full disk (delayed
 allocation, quotas, network file systems) or an I/O error is reported. :func:`full_disk` makes
 the syncs of regular files fail with ENOSPC after the first ``after``."""
 

@@ -17,7 +17,7 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from walk3d.results.prediction import Prediction as _Prediction
+from walk3d.results.prediction import PredictedCycle
 from walk3d.results.prediction import load_result as _load_result
 
 if TYPE_CHECKING:
@@ -31,12 +31,12 @@ __all__ = ["Prediction", "criterion_value", "gait_fields", "load_result", "predi
 _AXES = "xyz"
 
 
-class Prediction(_Prediction):
-    """A predicted gait cycle (:class:`walk3d.results.Prediction`: read-only SI arrays, time
+class Prediction(PredictedCycle):
+    """A predicted gait cycle (:class:`walk3d.results.PredictedCycle`: read-only SI arrays, time
     first) that also tabulates, plots and saves itself."""
 
     @classmethod
-    def of(cls, pred: _Prediction) -> Prediction:
+    def of(cls, pred: PredictedCycle) -> Prediction:
         """The same cycle as this class (arrays shared, read-only)."""
         return pred if isinstance(pred, cls) else cls(**{f.name: getattr(pred, f.name)
                                                          for f in fields(pred)})  # fmt: skip
@@ -106,8 +106,12 @@ class Prediction(_Prediction):
             OSError: the folder could not be written (one line; nothing is left behind).
         """
         from walk3d.pipeline import write_result
+        from walk3d.report.writer import write_report_or_warn
 
-        return write_result(self, out_dir, figure=figure, animate=animate, report=report)
+        folder = write_result(self, out_dir, figure=figure, animate=animate)
+        if report:
+            write_report_or_warn(folder)
+        return folder
 
 
 def load_result(out_dir: str | PathLike[str]) -> Prediction:
@@ -193,6 +197,7 @@ def predict(speed: float = 1.3806, *, period: float | None = None,
     """
     from walk3d.pipeline import check_result_folder
     from walk3d.pipeline import predict as run
+    from walk3d.report.writer import write_report_or_warn
 
     if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
@@ -200,7 +205,9 @@ def predict(speed: float = 1.3806, *, period: float | None = None,
         check_result_folder(out)
     s = settings(speed, period, double_support, mass=mass, height=height, sex=sex, **options)
     on_stage = progress if callable(progress) else _print_stage if progress else None
-    pred = Prediction.of(run(s, seed, out_dir=out, animate=animate, report=True, on_stage=on_stage))
+    pred = Prediction.of(run(s, seed, out_dir=out, animate=animate, on_stage=on_stage))
+    if out is not None:
+        write_report_or_warn(out)
     if not pred.converged:
         warnings.warn(f"walk3d: the solve did not converge ({pred.summary.get('status')}); "
                       "this is not a valid prediction", RuntimeWarning, stacklevel=2)  # fmt: skip

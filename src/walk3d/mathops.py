@@ -16,11 +16,6 @@ import numpy as np
 _SYMBOLIC = (ca.SX, ca.MX, ca.DM)
 
 
-def is_symbolic(x: Any) -> bool:
-    """Return True for CasADi expressions."""
-    return isinstance(x, _SYMBOLIC)
-
-
 def _dispatch(name: str, np_fn: Any, ca_fn: Any) -> Any:
     def fn(x: Any) -> Any:
         return ca_fn(x) if isinstance(x, _SYMBOLIC) else np_fn(x)

@@ -2,7 +2,7 @@
 API, and one way to write a group of files (build aside, then replace), so that an output is
 either complete or as it was, and nothing walk3d did not write is ever deleted.
 
-Single files go through :func:`walk3d.io._atomic.atomic_write` or ``atomic_path``, whole
+Single files go through :func:`walk3d.io.atomic.atomic_write` or ``atomic_path``, whole
 folders through ``atomic_folder``; :func:`replace_files` puts several files into an existing
 folder together. An :class:`OSError` while writing becomes one
 :class:`~walk3d.io.errors.OutputWriteError` line (:func:`write_errors`).
@@ -19,14 +19,14 @@ from contextlib import contextmanager
 from os import PathLike
 from pathlib import Path
 
-from walk3d.io._atomic import TMP_PREFIX, fsync_dir, temporary_sibling
+from walk3d.io.atomic import TMP_PREFIX, fsync_dir, temporary_sibling
 from walk3d.io.errors import OutputWriteError
 
 __all__ = ["check_output_file", "check_output_folder", "foreign_files", "replace_files",
            "write_errors"]  # fmt: skip
 
 _ATOMIC_TEMPORARY = re.compile(r"^\..+\.[0-9a-f]{12}\.\w+$")
-"""The name of :func:`~walk3d.io._atomic.atomic_write`'s temporary file (``.name.<hex>.tmp``)."""
+"""The name of :func:`~walk3d.io.atomic.atomic_write`'s temporary file (``.name.<hex>.tmp``)."""
 
 
 def _writable_base(out: Path, option: str, path: str) -> None:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import threading
-import warnings
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -19,7 +18,7 @@ from walk3d.problem.settings import PredictionSettings, body_for
 from walk3d.results.asymmetry import asymmetry_or_none
 from walk3d.results.evaluate import evaluate_cycle, make_prediction
 from walk3d.results.gait_checks import realism_figures, walking_checks
-from walk3d.results.prediction import Prediction, check_result_folder, save_prediction
+from walk3d.results.prediction import PredictedCycle, check_result_folder, save_prediction
 from walk3d.solve import SOLVE_REVISION, blas
 from walk3d.solve.landing import LANDING, landing_of
 
@@ -162,13 +161,12 @@ def predict(
     on_stage: Callable[[str], None] | None = None,
     warm_from: np.ndarray | None = None,
     animate: bool = False,
-    report: bool = False,
-) -> Prediction:
+) -> PredictedCycle:
     """Predict one gait cycle; write the result folder when ``out_dir`` is given.
     ``warm_from``: another prediction's decision vector (the subject's, ``summary.json``'s
     ``coefficients``) to start from instead of standing (:func:`walk3d.solve.starts.solve_warm`;
-    the settings must predict a descriptor). ``animate``, ``report``: also write
-    ``animation.mp4``, ``report.html`` (:func:`write_result`)."""
+    the settings must predict a descriptor). ``animate``: also write ``animation.mp4``
+    (:func:`write_result`)."""
     from walk3d.solve import run_solver
     from walk3d.solve.landing import solve_with_landing
     from walk3d.solve.starts import solve_warm
@@ -207,7 +205,7 @@ def predict(
     if out_dir is not None:
         if warm.is_alive():
             warm.join()  # Matplotlib's font objects are not for two threads at once
-        write_result(pred, out_dir, figure, body, animate=animate, report=report)
+        write_result(pred, out_dir, figure, body, animate=animate)
     return pred
 
 
@@ -235,19 +233,17 @@ def _warm_up_plots() -> None:
 
 
 def write_result(
-    pred: Prediction,
+    pred: PredictedCycle,
     out_dir: str | Path,
     figure: bool = True,
     body: BodyModel | None = None,
     animate: bool = False,
-    report: bool = False,
 ) -> Path:
-    """Write the result folder atomically, with ``summary.png`` when ``figure``,
-    ``animation.mp4`` (two cycles, :func:`walk3d.plots.write_animation`) when ``animate`` and
-    then ``report.html`` (:mod:`walk3d.report`) when ``report``, all listed in the manifest;
-    ``body`` is the body model ``pred`` was evaluated with (default: from its settings). The
-    page is made once the folder is complete: if it fails, a :class:`ReportWarning` says why
-    and the result stays.
+    """Write the result folder atomically, with ``summary.png`` when ``figure`` and
+    ``animation.mp4`` (two cycles, :func:`walk3d.plots.write_animation`) when ``animate``, all
+    listed in the manifest; ``body`` is the body model ``pred`` was evaluated with (default:
+    from its settings). ``report.html`` is added to the complete folder by
+    :func:`walk3d.report.writer.write_report_or_warn`.
 
     Raises:
         ValueError: ``out_dir`` is an existing file or a folder of other files
@@ -269,27 +265,4 @@ def write_result(
         folder = save_prediction(pred, out_dir, extra=extra, body=body)
     except OSError as exc:
         raise OutputWriteError(out_dir, exc) from exc
-    if report:
-        write_report_or_warn(folder)
     return folder
-
-
-class ReportWarning(UserWarning):
-    """``report.html`` could not be made; the result folder it was for is complete."""
-
-
-def write_report_or_warn(folder: str | Path) -> Path | None:
-    """Write ``folder/report.html`` (:mod:`walk3d.report.prediction_page`); on any failure
-    warn (:class:`ReportWarning`, one line) and return None: a result stands without its page."""
-    from walk3d.report.norms import find_data, load_norms
-    from walk3d.report.prediction_page import prediction_page
-    from walk3d.report.saving import save_report
-    from walk3d.results.prediction import load_result
-
-    try:
-        page = prediction_page(load_result(folder), folder, load_norms(find_data()))
-        return save_report(folder, "prediction", page, None)
-    except Exception as exc:  # noqa: BLE001 - the page is optional, the result is not
-        warnings.warn(f"report.html not written in {folder}: {' '.join(str(exc).split())}",
-                      ReportWarning, stacklevel=2)  # fmt: skip
-        return None

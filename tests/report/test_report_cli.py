@@ -105,11 +105,12 @@ def test_cli_bad_input_one_line_exit_2(result_folder, tmp_path, case):
 
 
 def test_predict_writes_the_report_into_its_finished_folder(evaluated, tmp_path):
-    from walk3d.pipeline import write_result
+    import walk3d
 
     settings, body, ev = evaluated
-    out = write_result(make_prediction(settings, ev, converged=True), tmp_path / "o",
-                       figure=False, body=body, report=True)  # fmt: skip
+    out = walk3d.Prediction.of(make_prediction(settings, ev, converged=True)).save(
+        tmp_path / "o", figure=False
+    )
     check_complete(out)
     assert "report.html" in json.loads((out / "manifest.json").read_text())["files"]
     page = (out / "report.html").read_text(encoding="utf-8")
@@ -128,17 +129,19 @@ def test_campaign_command_ends_with_the_report(result_folder, tmp_path):
 
 
 def test_a_report_that_fails_leaves_the_result_and_warns(evaluated, tmp_path, monkeypatch):
-    import walk3d.report.prediction_page
-    from walk3d.pipeline import ReportWarning, write_result
+    import walk3d.report.writer
+    from walk3d.pipeline import write_result
+    from walk3d.report.writer import ReportWarning, write_report_or_warn
 
     def broken(*args, **kwargs):
         raise RuntimeError("no page\ntoday")
 
-    monkeypatch.setattr(walk3d.report.prediction_page, "prediction_page", broken)
+    monkeypatch.setattr(walk3d.report.writer, "prediction_page", broken)
     settings, body, ev = evaluated
+    out = write_result(make_prediction(settings, ev, converged=True), tmp_path / "o",
+                       figure=False, body=body)  # fmt: skip
     with pytest.warns(ReportWarning, match="report.html not written in .*: no page today"):
-        out = write_result(make_prediction(settings, ev, converged=True), tmp_path / "o",
-                           figure=False, body=body, report=True)  # fmt: skip
+        assert write_report_or_warn(out) is None
     check_complete(out)  # the solved result stands
     assert "report.html" not in json.loads((out / "manifest.json").read_text())["files"]
 

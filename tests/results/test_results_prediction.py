@@ -1,4 +1,4 @@
-"""Result folders: Prediction save/load round trip, OpenSim files and the summary figure."""
+"""Result folders: PredictedCycle save/load round trip, OpenSim files and the summary figure."""
 
 import json
 import xml.etree.ElementTree as ET
@@ -12,7 +12,7 @@ from walk3d.io.external_loads import extract_foot_loads, grf_column_names
 from walk3d.io.storage import read_storage
 from walk3d.plots import summary_figure
 from walk3d.plots.summary import _title
-from walk3d.results import Prediction, load_result, pelvis_angles, save_prediction
+from walk3d.results import PredictedCycle, load_result, pelvis_angles, save_prediction
 from walk3d.results.opensim import OPENSIM_COORDINATES, write_motion
 
 N = 21
@@ -30,7 +30,7 @@ def _unit_quaternions(rng: np.random.Generator, shape: tuple[int, ...]) -> np.nd
     return q / np.linalg.norm(q, axis=-1, keepdims=True)
 
 
-def make_prediction(seed: int = 0, summary: dict | None = None) -> Prediction:
+def make_prediction(seed: int = 0, summary: dict | None = None) -> PredictedCycle:
     rng = np.random.default_rng(seed)
     body = build_body()
     time = np.linspace(0.0, 1.1, N)
@@ -65,7 +65,7 @@ def make_prediction(seed: int = 0, summary: dict | None = None) -> Prediction:
         "stride_length_m": 1.32,
         "seed": 4,
     }
-    return Prediction(
+    return PredictedCycle(
         time=time,
         segment_names=SEGMENT_NAMES,
         segment_mass=[s.mass for s in body.segments],
@@ -101,10 +101,10 @@ def test_prediction_is_read_only_and_checked():
     assert pred.joint_axis_active.dtype == bool
     assert pred.body_mass == pytest.approx(68.8, rel=1e-6)
     with pytest.raises(ValueError, match="grf_cop"):
-        Prediction(**{**_fields(pred), "grf_cop": np.zeros((N, 2, 2))})
+        PredictedCycle(**{**_fields(pred), "grf_cop": np.zeros((N, 2, 2))})
 
 
-def _fields(pred: Prediction) -> dict:
+def _fields(pred: PredictedCycle) -> dict:
     return {k: getattr(pred, k) for k in pred.__dataclass_fields__}
 
 

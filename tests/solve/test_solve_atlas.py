@@ -152,7 +152,7 @@ def test_an_entry_handover_optimum_is_feasible_for_the_handover_problem():
     """``x_handover`` at 1.4 m/s meets the handover problem's rows at the entry's V, T and Td
     to the entry tolerance (:func:`walk3d.campaign.atlas.add_handover` solved it to 1e-8).
     Negative control: the entry's free-landing optimum does not."""
-    from walk3d.solve.ipopt import _z_from_x, build_solver, full_stage_start
+    from walk3d.solve.ipopt import build_solver, full_stage_start, lifted_z
     from walk3d.solve.progress import bound_violation
     from walk3d.solve.solver import forget_solvers
 
@@ -164,7 +164,7 @@ def test_an_entry_handover_optimum_is_feasible_for_the_handover_problem():
 
     def worst(x):
         solver = build_solver(given)
-        z = full_stage_start(solver, _z_from_x(solver, np.asarray(x)))
+        z = full_stage_start(solver, lifted_z(solver, np.asarray(x)))
         b = solver.nlp_bounds("full")
         g = np.array(solver.constraints(z)).ravel()
         return max(bound_violation(z, b.lbz, b.ubz), bound_violation(g, b.lbg, b.ubg))

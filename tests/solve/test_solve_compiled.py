@@ -65,13 +65,13 @@ def test_compile_then_build_uses_the_compiled_blocks(fake_compiler, monkeypatch)
     assert sorted(comp.compiled) == kinds
     with monkeypatch.context() as m:  # the full NLP differentiates no node function itself
         m.setattr(derivatives, "node_derivatives", lambda *a: pytest.fail("differentiated"))
-        comp._problem("full")
+        comp.nlp_problem("full")
     plain = solver._build.__wrapped__(SETTINGS, "ipopt", False)  # no cache: VM derivatives
     assert plain.compiled == {}
     rng = np.random.default_rng(2)
     for kind in ("balance", "full"):  # the full NLP's Hessian and Jacobian include node 0's
-        a = comp._problem(kind)["derivatives"]
-        b = plain._problem(kind)["derivatives"]
+        a = comp.nlp_problem(kind)["derivatives"]
+        b = plain.nlp_problem(kind)["derivatives"]
         z = rng.uniform(-0.1, 0.1, comp.bounds.lbz.size)
         lam = rng.normal(size=comp.bounds.lbg.size if kind == "full" else
                          comp.bounds_balance.lbg.size)  # fmt: skip

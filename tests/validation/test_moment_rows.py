@@ -20,7 +20,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verify"))
 from verify_support import atlas_prediction  # noqa: E402
 
 from walk3d.io.storage import read_storage  # noqa: E402
-from walk3d.results.prediction import Prediction, load_result, save_prediction  # noqa: E402
+from walk3d.results.prediction import PredictedCycle, load_result, save_prediction  # noqa: E402
 from walk3d.validation.run import validate  # noqa: E402
 
 SAGITTAL = {"hip_flexion": "hip_flexion", "knee_flexion": "knee_angle",
@@ -37,7 +37,7 @@ def folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return save_prediction(pred, tmp_path_factory.mktemp("moments") / "atlas", body=body)
 
 
-def _cycle(pred: Prediction, time: np.ndarray, values: np.ndarray, t_hs: float) -> np.ndarray:
+def _cycle(pred: PredictedCycle, time: np.ndarray, values: np.ndarray, t_hs: float) -> np.ndarray:
     """``values`` on 0–100 % from a right heel strike at ``t_hs`` (periodic, 101 samples)."""
     period = compare_module.cycle_timing(pred)[0]
     t = time - time[0]

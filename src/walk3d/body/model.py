@@ -26,7 +26,7 @@ from functools import cache
 import numpy as np
 
 from walk3d.body.anthropometry import load_parameters, lump, scaled_de_leva
-from walk3d.kinematics.rollover import RollOver, arc_rollover
+from walk3d.body.rollover import RollOver, arc_rollover
 
 SEGMENT_NAMES = (
     "pelvis", "torso", "head", "upper_arm_r", "forearm_r", "upper_arm_l", "forearm_l",

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from walk3d.body.rollover import RollOver
 from walk3d.calibration.fit import COMPONENTS, TransitionCheck
-from walk3d.kinematics.rollover import RollOver
 from walk3d.plots.canvas import agg_figure, save_png
 
 __all__ = ["rollover_figure", "transition_figure"]

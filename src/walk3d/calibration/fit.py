@@ -6,7 +6,7 @@ angles (:func:`walk3d.trials.kinematics.segment_poses`) gives the ankle joint ce
 foot's pitch ``θ``. ``θ`` is taken relative to foot flat (the slowest rotation in mid-stance)
 and the ankle relative to its position there; the height is re-based so that the ankle sits at
 walk3d's ankle height at foot flat (the model's floor). Left stances are mirrored. The pooled
-samples are binned into knots by :func:`walk3d.kinematics.rollover.fit_rollover`. Outside the
+samples are binned into knots by :func:`walk3d.body.rollover.fit_rollover`. Outside the
 measured range the default arc (:func:`walk3d.body.model.build_body`) continues the curve,
 shifted to join it, so an optimizer that tries larger foot rotations meets a sensible shape
 instead of a cubic extrapolation. Quality: the spline's RMS distance to the samples, and the
@@ -31,9 +31,9 @@ from typing import Any
 import numpy as np
 
 from walk3d.body.model import BodyModel
+from walk3d.body.rollover import RollOver, fit_rollover
 from walk3d.contact.transition import TransitionRatios
 from walk3d.io.external_loads import FootLoads
-from walk3d.kinematics.rollover import RollOver, fit_rollover
 from walk3d.trials.events import FootEvents
 from walk3d.trials.kinematics import MeasuredKinematics, ankle_positions, foot_pitch
 

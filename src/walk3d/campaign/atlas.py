@@ -28,7 +28,7 @@ import casadi as ca
 import numpy as np
 
 from walk3d.constants import __version__
-from walk3d.io._atomic import atomic_path, atomic_write_text
+from walk3d.io.atomic import atomic_path, atomic_write_text
 from walk3d.model import terms
 from walk3d.problem import descriptors, layout, similarity
 from walk3d.problem.settings import PredictionSettings
@@ -61,14 +61,14 @@ def fingerprint(settings: PredictionSettings, entry: dict) -> dict:
     coefficients at its speed, period and double support; W0 and slacks made consistent by
     :func:`walk3d.solve.ipopt.full_stage_start`). Any change of the model, the criterion or
     the rows changes them."""
-    from walk3d.solve.ipopt import _z_from_x, build_solver, full_stage_start
+    from walk3d.solve.ipopt import build_solver, full_stage_start, lifted_z
     from walk3d.solve.solver import forget_solvers
 
     given = settings.replace(speed=entry["speed"], period=entry["period"],
                              double_support=entry["double_support"], free=())  # fmt: skip
     solver = build_solver(given)
-    z = full_stage_start(solver, _z_from_x(solver, np.asarray(entry["x"], dtype=float)))
-    prob = solver._problem("full")
+    z = full_stage_start(solver, lifted_z(solver, np.asarray(entry["x"], dtype=float)))
+    prob = solver.nlp_problem("full")
     f, g = ca.Function("walk3d_fingerprint", [prob["x"]], [prob["f"], prob["g"]])(z)
     forget_solvers()
     return {"speed": entry["speed"], "objective": float(f),
@@ -83,13 +83,13 @@ so an entry that is its problem's optimum is well within it."""
 def violation(settings: PredictionSettings, entry: dict) -> float:
     """The free-descriptor NLP's largest constraint violation (bounds on ``z`` and ``g``) at
     ``entry``'s start: at most :data:`ENTRY_TOLERANCE` when the entry is that problem's optimum."""
-    from walk3d.solve.ipopt import _z_from_x, build_solver, full_stage_start
+    from walk3d.solve.ipopt import build_solver, full_stage_start, lifted_z
     from walk3d.solve.progress import bound_violation
 
     t, td = entry["period"], entry["double_support"]
     trial = settings.replace(speed=entry["speed"], period=t, double_support=td)
     solver = build_solver(trial)
-    z = full_stage_start(solver, _z_from_x(solver, np.asarray(entry["x"], dtype=float), (t, td)))
+    z = full_stage_start(solver, lifted_z(solver, np.asarray(entry["x"], dtype=float), (t, td)))
     b = solver.nlp_bounds("free")
     g = np.array(solver.constraints(z)).ravel()
     return max(bound_violation(z, b.lbz, b.ubz), bound_violation(g, b.lbg, b.ubg))

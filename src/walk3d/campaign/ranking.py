@@ -17,7 +17,7 @@ from typing import Any
 from rich.table import Table
 
 from walk3d.campaign import store
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 from walk3d.model import terms
 
 __all__ = ["COLUMNS", "order_records", "rank", "top_table", "update_best", "write_ranking"]

@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from walk3d.constants import __version__
-from walk3d.io._atomic import (
+from walk3d.io.atomic import (
     TMP_PREFIX,
     atomic_folder,
     atomic_write_text,

@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from walk3d.campaign.sweep_folder import SweepMismatch, check_folder, speed_folder, stored
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 from walk3d.io.checks import read_json_object
 from walk3d.model import terms
 from walk3d.problem import descriptors

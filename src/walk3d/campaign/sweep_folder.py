@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 from walk3d.io.checks import read_json_object
 from walk3d.io.errors import DataFileError
 from walk3d.problem.settings import ModelSettings, PredictionSettings, recorded_settings

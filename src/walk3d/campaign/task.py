@@ -25,7 +25,7 @@ from typing import Any
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from walk3d.campaign import store
-from walk3d.io._atomic import temporary_sibling
+from walk3d.io.atomic import temporary_sibling
 from walk3d.model import terms
 from walk3d.problem.settings import flat_settings
 

@@ -30,7 +30,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import IO
 
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 from walk3d.problem import similarity
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import compiled, model_cache

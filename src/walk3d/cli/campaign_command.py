@@ -9,7 +9,7 @@ import typer
 
 from walk3d.cli import changes as what_if
 from walk3d.cli.changes import AddedMass, EqualSteps, FullCycle, LegLength, Range, Strength
-from walk3d.cli.commands import _calibration_fields
+from walk3d.cli.commands import calibration_fields
 from walk3d.cli.common import (
     EXIT_WRITE,
     SOLVER,
@@ -119,7 +119,7 @@ def campaign(
         **gait_fields(case["speed"], case["period"], case["double_support"], case["height"]),
         mass=case["mass"], height=case["height"], sex=case["sex"], nodes=nodes, max_iter=max_iter,
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
-        hsl_library=hsl_library, handover=handover, **_calibration_fields(calibration),
+        hsl_library=hsl_library, handover=handover, **calibration_fields(calibration),
         **what_if.changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
     )  # fmt: skip
     from walk3d.campaign import CampaignMismatch, run_campaign

@@ -97,7 +97,7 @@ def body(
     console.print(j)
 
 
-def _calibration_fields(path: str | None) -> dict:
+def calibration_fields(path: str | None) -> dict:
     """Settings fields from a calibration file, or one error line and exit 2."""
     if path is None:
         return {}
@@ -223,24 +223,22 @@ def predict(
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads, max_iter=max_iter,
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library, handover=handover, descriptors_from=descriptors_from,
-        **_calibration_fields(calibration),
+        **calibration_fields(calibration),
         **what_if.changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
     )  # fmt: skip
     from walk3d.io.errors import OutputWriteError
     from walk3d.pipeline import predict as run
+    from walk3d.report.writer import write_report_or_warn
+
+    def run_and_report(on_stage):
+        """The prediction, then its report.html (a page that fails is a warning)."""
+        pred = run(settings, seed, solver, out_dir=out, animate=animate, on_stage=on_stage)
+        write_report_or_warn(out)
+        return pred
 
     try:
         with console.status("walk3d: starting") as status:
-            pred = warned(
-                run,
-                settings,
-                seed,
-                solver,
-                out_dir=out,
-                animate=animate,
-                report=True,
-                on_stage=lambda msg: status.update(f"walk3d: {msg}"),
-            )
+            pred = warned(run_and_report, lambda msg: status.update(f"walk3d: {msg}"))
     except OutputWriteError as exc:
         fail(str(exc), code=EXIT_WRITE)
     s = pred.summary
@@ -360,7 +358,7 @@ def compile_model(
     settings = settings_from_options(
         criterion, "ipopt", 0, **gait_fields(speed, period, double_support, height),
         mass=mass, height=height, sex=sex, nodes=nodes, handover=handover,
-        **_calibration_fields(calibration),
+        **calibration_fields(calibration),
     )  # fmt: skip
     from walk3d.cli.compile import compile_with_progress
 

@@ -36,7 +36,7 @@ def compare(
     angle and moment as compare.csv, a figure of both over the cycle as compare.png, and both
     in report.html. Exit code 2 for a folder that is not a result or two results that do not
     compare, 3 if --out cannot be written."""
-    from walk3d.io._atomic import atomic_write_text
+    from walk3d.io.atomic import atomic_write_text
     from walk3d.io.errors import DataFileError, OutputWriteError
     from walk3d.io.tables import write_csv_table
     from walk3d.plots.compare import compare_figure

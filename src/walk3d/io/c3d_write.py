@@ -15,7 +15,7 @@ caller says which lab axes face right and up on screen) and writes what a lab's 
   derive the samples per frame from the quotient of the two and truncate it;
 * ``EVENT``: optional events (context, label, time in s), as clinical software marks gait events.
 
-The file is written atomically (:mod:`walk3d.io._atomic`).
+The file is written atomically (:mod:`walk3d.io.atomic`).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from walk3d.io._atomic import atomic_path
+from walk3d.io.atomic import atomic_path
 
 __all__ = ["RATE_STEP", "C3dEvent", "PlateLoads", "file_rate", "plate_axes", "write_c3d"]
 

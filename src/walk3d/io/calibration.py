@@ -10,7 +10,7 @@ Layout (version 1; SI units)::
     }
 
 ``s`` are the roll-over knots (``sin(θ/2)`` of the foot rotation, strictly increasing, at least
-three) and ``ankle_m`` the ankle displacement at each knot (:class:`walk3d.kinematics.rollover.
+three) and ``ankle_m`` the ankle displacement at each knot (:class:`walk3d.body.rollover.
 RollOver`). The last four objects are free-form records. :func:`read_calibration` checks the
 layout and raises :class:`~walk3d.io.errors.DataFileError` naming the file and line.
 """
@@ -24,7 +24,7 @@ from os import PathLike
 from pathlib import Path
 from typing import Any
 
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 from walk3d.io.checks import read_json_object
 from walk3d.io.errors import DataFileError
 

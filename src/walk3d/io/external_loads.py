@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 from walk3d.io.checks import read_xml
 from walk3d.io.errors import DataFileError
 from walk3d.io.storage import Storage, read_storage, write_storage

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 
 __all__ = ["osim_xml", "write_osim"]
 

@@ -27,7 +27,7 @@ from types import MappingProxyType
 import numpy as np
 from numpy.typing import ArrayLike
 
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 from walk3d.io.errors import DataFileError
 
 __all__ = ["Storage", "read_storage", "write_storage"]

@@ -10,7 +10,7 @@ from os import PathLike
 from pathlib import Path
 from typing import Any
 
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 
 __all__ = ["write_csv_table"]
 

@@ -209,14 +209,6 @@ def from_vector_triple(v: V, vd: V, vdd: V) -> QTriple:
     return ((w, *v), (wd, *vd), (wdd, *vdd))
 
 
-def constant_triple(q: Q, like: Any) -> QTriple:
-    """A constant quaternion broadcast like ``like`` (array or symbol)."""
-    zero = 0.0 * like
-    qq = tuple(zero + c for c in q)
-    z = (zero, zero, zero, zero)
-    return (qq, z, z)  # type: ignore[return-value]
-
-
 # --------------------------------------------------------------------------------------------
 # array layer: (..., 4) arrays, scalar first
 # --------------------------------------------------------------------------------------------

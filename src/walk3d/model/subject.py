@@ -16,7 +16,7 @@ def body_for(settings: Any) -> Any:
 
     from walk3d.body.changes import apply_changes
     from walk3d.body.model import build_body
-    from walk3d.kinematics.rollover import RollOver
+    from walk3d.body.rollover import RollOver
 
     g, m = settings.gait, settings.model
     body = build_body(g.mass, g.height, g.sex)

@@ -26,7 +26,7 @@ from walk3d.kinematics import quaternion
 
 if TYPE_CHECKING:
     from walk3d.body.model import BodyModel
-    from walk3d.results.prediction import Prediction
+    from walk3d.results.prediction import PredictedCycle
 
 __all__ = ["AnimationFrames", "animation_frames", "segment_landmarks"]
 
@@ -123,7 +123,7 @@ def segment_landmarks(body: BodyModel) -> tuple[list[np.ndarray], list[list[tupl
     return marks, sticks
 
 
-def _cycle_samples(pred: Prediction) -> tuple[float, np.ndarray, np.ndarray]:
+def _cycle_samples(pred: PredictedCycle) -> tuple[float, np.ndarray, np.ndarray]:
     """The period, the sample times of one closed cycle ``[t0, t0 + T]`` and the indices of
     the samples used (the first one repeated, moved a stride on, if the last is not at T)."""
     t = pred.time - pred.time[0]
@@ -136,7 +136,7 @@ def _cycle_samples(pred: Prediction) -> tuple[float, np.ndarray, np.ndarray]:
     return period, np.append(t, period), np.append(np.arange(t.size), 0)
 
 
-def _stride(pred: Prediction, period: float, closed: bool) -> np.ndarray:
+def _stride(pred: PredictedCycle, period: float, closed: bool) -> np.ndarray:
     if closed:
         return pred.pelvis_position[-1] - pred.pelvis_position[0]
     d = pred.summary.get("descriptors") or {}
@@ -145,7 +145,7 @@ def _stride(pred: Prediction, period: float, closed: bool) -> np.ndarray:
 
 
 def animation_frames(
-    pred: Prediction,
+    pred: PredictedCycle,
     body: BodyModel,
     *,
     cycles: int = 2,

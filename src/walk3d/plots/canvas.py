@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from walk3d.io._atomic import atomic_write
+from walk3d.io.atomic import atomic_write
 
 __all__ = ["agg_figure", "save_png"]
 

@@ -11,7 +11,7 @@ import numpy as np
 
 from walk3d.plots.canvas import agg_figure, save_png
 from walk3d.results.compare import dof_moments
-from walk3d.results.prediction import Prediction
+from walk3d.results.prediction import PredictedCycle
 
 __all__ = ["compare_figure"]
 
@@ -20,7 +20,7 @@ _SIDES = (("r", "tab:red"), ("l", "tab:blue"))
 _RUNS = (("-", "A"), ("--", "B"))
 
 
-def compare_figure(a: Prediction, b: Prediction, path: str | PathLike[str],
+def compare_figure(a: PredictedCycle, b: PredictedCycle, path: str | PathLike[str],
                    labels: tuple[str, str] = ("A", "B")) -> Path:  # fmt: skip
     """Write the comparison figure (PNG) of ``a`` and ``b`` to ``path``."""
     fig, axes = agg_figure(3, 4, 14.0, 9.0)

@@ -15,14 +15,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from walk3d.constants import G
-from walk3d.io._atomic import atomic_write
+from walk3d.io.atomic import atomic_write
 from walk3d.results.angles import pelvis_angles
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from walk3d.results.prediction import Prediction
+    from walk3d.results.prediction import PredictedCycle
 
 __all__ = ["summary_figure", "summary_plot", "warm_up"]
 
@@ -96,7 +96,7 @@ def _title(summary: Mapping[str, Any]) -> str:
     return head if not parts else head + "\n" + ",  ".join(parts)
 
 
-def _bilateral(ax: Axes, pred: Prediction, x: np.ndarray, title: str, base: str) -> None:
+def _bilateral(ax: Axes, pred: PredictedCycle, x: np.ndarray, title: str, base: str) -> None:
     for side, style in (("r", _RIGHT), ("l", _LEFT)):
         name = f"{base}_{side}"
         if name in pred.dof_names:
@@ -105,7 +105,7 @@ def _bilateral(ax: Axes, pred: Prediction, x: np.ndarray, title: str, base: str)
     ax.set_ylabel("deg", fontsize=8)
 
 
-def _trunk(ax: Axes, pred: Prediction, x: np.ndarray) -> None:
+def _trunk(ax: Axes, pred: PredictedCycle, x: np.ndarray) -> None:
     pelvis = np.degrees(pelvis_angles(pred.segment_orientation[:, 0, :]))
     colors = ("tab:green", "tab:purple", "tab:orange")
     for k, label in enumerate(("tilt", "list", "rotation")):
@@ -120,7 +120,7 @@ def _trunk(ax: Axes, pred: Prediction, x: np.ndarray) -> None:
     ax.legend(fontsize=6, ncol=2, loc="best")
 
 
-def _grf(ax: Axes, pred: Prediction, x: np.ndarray, title: str, axis: int) -> None:
+def _grf(ax: Axes, pred: PredictedCycle, x: np.ndarray, title: str, axis: int) -> None:
     mass = pred.body_mass
     scale = 1.0 / mass if mass > 0 else 1.0
     for k, style in enumerate((_RIGHT, _LEFT)):
@@ -131,7 +131,7 @@ def _grf(ax: Axes, pred: Prediction, x: np.ndarray, title: str, axis: int) -> No
         ax.axhline(G, color="0.6", linewidth=0.8, linestyle=":")
 
 
-def _draw(pred: Prediction, figsize: Sequence[float], dpi: float):
+def _draw(pred: PredictedCycle, figsize: Sequence[float], dpi: float):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -181,7 +181,7 @@ def _draw_blank():
 
 
 def summary_plot(
-    pred: Prediction, *, figsize: Sequence[float] = (11.0, 11.0), dpi: float = 100.0
+    pred: PredictedCycle, *, figsize: Sequence[float] = (11.0, 11.0), dpi: float = 100.0
 ) -> Figure:
     """The figure :func:`summary_figure` saves, as a Matplotlib Figure (not attached to pyplot,
     so nothing is shown unless asked)."""
@@ -189,7 +189,7 @@ def summary_plot(
 
 
 def summary_figure(
-    pred: Prediction,
+    pred: PredictedCycle,
     path: str | PathLike[str],
     *,
     figsize: Sequence[float] = (11.0, 11.0),

@@ -22,12 +22,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from walk3d.io._atomic import atomic_path
+from walk3d.io.atomic import atomic_path
 from walk3d.plots.animation import AnimationFrames, animation_frames
 
 if TYPE_CHECKING:
     from walk3d.body.model import BodyModel
-    from walk3d.results.prediction import Prediction
+    from walk3d.results.prediction import PredictedCycle
 
 __all__ = ["FRAME_SIZE", "encode_mp4", "write_animation"]
 
@@ -146,7 +146,7 @@ class _Scene:
     """The figure of one animation: :meth:`frame` draws frame ``i`` over the cached background
     (``full=True``: a whole redraw, the reference the cached drawing must equal)."""
 
-    def __init__(self, pred: Prediction, body: BodyModel, cycles: int, fps: float) -> None:
+    def __init__(self, pred: PredictedCycle, body: BodyModel, cycles: int, fps: float) -> None:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
 
@@ -194,7 +194,7 @@ class _Scene:
 
 
 def write_animation(
-    pred: Prediction,
+    pred: PredictedCycle,
     path: str | PathLike[str],
     *,
     cycles: int = 2,

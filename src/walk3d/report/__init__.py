@@ -5,6 +5,6 @@
 * :mod:`.prediction_page`, :mod:`.campaign_page`: the two pages;
 * :mod:`.writer`: which folder is which, and the atomic write (``walk3d report``).
 
-Nothing is imported here, so that :mod:`walk3d.pipeline` can use :mod:`.prediction_page`
-without loading :mod:`walk3d.campaign` (which runs predictions).
+Nothing is imported here, so that a prediction's page (:mod:`.prediction_page`) is made
+without loading :mod:`walk3d.campaign` (and Dask with it).
 """

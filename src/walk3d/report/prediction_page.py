@@ -1,7 +1,7 @@
 """The report of one prediction: inputs, convergence, criteria, figures over normative bands,
 and the animation, as sections of a self-contained HTML page (docs/report.md).
 
-Read from the :class:`~walk3d.results.prediction.Prediction` and its ``summary`` (what
+Read from the :class:`~walk3d.results.prediction.PredictedCycle` and its ``summary`` (what
 ``summary.json`` holds); a field the summary lacks is shown as ``–``, never guessed. Curves
 run 0–100 % from right heel strike (:func:`walk3d.validation.compare.align_prediction`), in
 Table 2's units (degrees, N m/kg, N/kg); bands come from :mod:`walk3d.report.norms`.
@@ -17,7 +17,7 @@ from walk3d.plots.cycles import Panel, cycle_figure
 from walk3d.problem.settings import recorded_settings
 from walk3d.report import html as h
 from walk3d.report.norms import Norms
-from walk3d.results.prediction import Prediction
+from walk3d.results.prediction import PredictedCycle
 from walk3d.validation.compare import align_prediction
 from walk3d.validation.quantities import GROUP_UNITS, QUANTITIES
 
@@ -191,7 +191,7 @@ def _sides(summary: dict) -> str:
     )
 
 
-def _figures(pred: Prediction, norms: Norms) -> str:
+def _figures(pred: PredictedCycle, norms: Norms) -> str:
     try:
         percent, predicted = align_prediction(pred)
     except (ValueError, KeyError) as exc:
@@ -241,7 +241,7 @@ def _animation(folder: Path | None, where: str) -> str:
 
 
 def prediction_sections(
-    pred: Prediction,
+    pred: PredictedCycle,
     folder: str | PathLike[str] | None,
     norms: Norms,
     level: int = 2,
@@ -264,7 +264,7 @@ def prediction_sections(
 
 
 def prediction_page(
-    pred: Prediction,
+    pred: PredictedCycle,
     folder: str | PathLike[str] | None,
     norms: Norms,
     shown_as: str | None = None,

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 from walk3d.outputs import write_errors
 from walk3d.report.prediction_page import REPORT
 from walk3d.results.prediction import VIEW_FILES, record_file

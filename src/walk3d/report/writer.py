@@ -3,12 +3,14 @@
 A prediction folder has ``summary.json`` (its ``manifest.json`` is checked when it is read);
 a campaign folder has ``campaign.json`` (and no ``summary.json``: its starts are sub-folders).
 A page written into a prediction folder is listed in its manifest
-(:func:`walk3d.results.prediction.record_file`). :mod:`walk3d.campaign` (and Dask with it) is
-imported only for a campaign folder, which keeps a prediction's report quick to start.
+(:func:`walk3d.results.prediction.record_file`); :func:`write_report_or_warn` adds it to a
+folder just predicted. :mod:`walk3d.campaign` (and Dask with it) is imported only for a
+campaign folder, which keeps a prediction's report quick to start.
 """
 
 from __future__ import annotations
 
+import warnings
 from os import PathLike
 from pathlib import Path
 
@@ -17,7 +19,8 @@ from walk3d.report.prediction_page import prediction_page
 from walk3d.report.saving import remade_views, save_report
 from walk3d.results.prediction import load_result
 
-__all__ = ["build_report", "folder_kind", "save_report", "write_report"]
+__all__ = ["ReportWarning", "build_report", "folder_kind", "save_report", "write_report",
+           "write_report_or_warn"]  # fmt: skip
 
 
 def folder_kind(folder: str | PathLike[str]) -> str | None:
@@ -68,3 +71,19 @@ def write_report(
     target = None if out is None else Path(out)
     kind, page = build_report(folder, load_norms(find_data(data)), target)
     return kind, save_report(folder, kind, page, target)
+
+
+class ReportWarning(UserWarning):
+    """``report.html`` could not be made; the result folder it was for is complete."""
+
+
+def write_report_or_warn(folder: str | Path) -> Path | None:
+    """Write ``folder/report.html`` (:mod:`walk3d.report.prediction_page`); on any failure
+    warn (:class:`ReportWarning`, one line) and return None: a result stands without its page."""
+    try:
+        page = prediction_page(load_result(folder), folder, load_norms(find_data()))
+        return save_report(folder, "prediction", page, None)
+    except Exception as exc:  # noqa: BLE001 - the page is optional, the result is not
+        warnings.warn(f"report.html not written in {folder}: {' '.join(str(exc).split())}",
+                      ReportWarning, stacklevel=2)  # fmt: skip
+        return None

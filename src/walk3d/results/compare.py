@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from walk3d.body.model import build_body
-from walk3d.results.prediction import Prediction
+from walk3d.results.prediction import PredictedCycle
 
 __all__ = ["COLUMNS", "compare", "dof_moments"]
 
@@ -23,7 +23,7 @@ COLUMNS = ("group", "quantity", "unit", "a_min", "a_max", "b_min", "b_max", "rms
 the RMS and largest change sample by sample (B − A); criteria have only ``a_max``, ``b_max``."""
 
 
-def dof_moments(pred: Prediction) -> np.ndarray:
+def dof_moments(pred: PredictedCycle) -> np.ndarray:
     """(N, 24) each DoF's joint moment on its axis, N·m, in ``pred.dof_names`` order."""
     joints = build_body().joints  # the axis slots are the model's structure, not the subject's
     names = list(pred.joint_names)
@@ -48,7 +48,7 @@ def _total(entry: Any) -> float | None:
     return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else None
 
 
-def compare(a: Prediction, b: Prediction) -> list[dict[str, Any]]:
+def compare(a: PredictedCycle, b: PredictedCycle) -> list[dict[str, Any]]:
     """Rows of :data:`COLUMNS`: the criteria both report, then every DoF's angle (deg) and
     moment (N·m/kg). Raises ValueError when the two are not on the same grid or DoFs."""
     if a.dof_names != b.dof_names or a.time.shape != b.time.shape:

@@ -1,4 +1,5 @@
-"""From a solved decision vector to the full gait cycle (a :class:`Prediction`) and its checks.
+"""From a solved decision vector to the full gait cycle (a :class:`PredictedCycle`) and its
+checks.
 
 The solver only looks at the half cycle with the right foot as root; here the whole cycle is
 evaluated honestly with both roots (right from its heel strike to the left heel strike, left
@@ -27,7 +28,7 @@ from walk3d.problem import layout
 from walk3d.problem.jerk import jerk_per_dof, jerk_per_dof_full
 from walk3d.problem.settings import PredictionSettings, ratios_for
 from walk3d.results.angles import ball_joint_angles
-from walk3d.results.prediction import Prediction
+from walk3d.results.prediction import PredictedCycle
 from walk3d.results.violations import block_violations, range_excess_deg, summarize_violations
 
 
@@ -259,5 +260,5 @@ def weighted_total(criterion: str, values: dict) -> dict:
     return {"total": float(sum(parts.values())), "weights": weights, "parts": parts}
 
 
-def make_prediction(arrays: dict, summary: dict) -> Prediction:
-    return Prediction(**arrays, summary=summary)
+def make_prediction(arrays: dict, summary: dict) -> PredictedCycle:
+    return PredictedCycle(**arrays, summary=summary)

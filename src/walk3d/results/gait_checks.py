@@ -11,7 +11,7 @@ reach (C_tor about 6.3–7.4 against 1.9–3.7 for walking, yet knee about 40° 
 force humps; docs/solver.md):
 
 * the hip flexes at most 27° on average over the middle third of stance
-  (:data:`walk3d.solve.upright.HIP_MIDSTANCE_MAX_DEG`, the solver's own crouch check). A crouch
+  (:mod:`walk3d.contact.crouch`, which the solver's crouch check applies too). A crouch
   keeps the hip flexed through stance; a long stride flexes it at heel strike only, so the
   stance maximum (``hip_stance_max_deg``, reported too) confuses the two at fast speeds. The
   knee does not separate them: walk3d's walking optima flex it about 30° in mid-stance too.
@@ -26,8 +26,8 @@ from __future__ import annotations
 import numpy as np
 
 from walk3d.constants import G
+from walk3d.contact.crouch import midstance_mean, upright
 from walk3d.contact.phases import GaitPhases
-from walk3d.solve.upright import HIP_MIDSTANCE_MAX_DEG
 
 KNEE_SWING_MIN_DEG = 40.0
 HUMP_MIN_BW = 0.1
@@ -51,10 +51,7 @@ def walking_checks(arrays: dict, period: float, double_support: float, mass: flo
     hip = angles[:, names.index("hip_flexion_r")]
     knee_max = float(knee[~stance].max()) if (~stance).any() else float("nan")
     hip_max = float(hip[stance].max()) if stance.any() else float("nan")
-    lo, hi = ph.mid_stance
-    since = np.mod(t - ph.heel_strike_r, period)
-    mid = (since >= lo) & (since <= hi)
-    hip_mid = float(hip[mid].mean()) if mid.any() else float("nan")
+    hip_mid = midstance_mean(hip, np.mod(t - ph.heel_strike_r, period), ph)
     fy = np.asarray(arrays["grf_force"])[:, 0, 1] / (mass * G)
     f = fy[stance & (fy > 0.05)]
     humps = (float("nan"),) * 3
@@ -64,16 +61,16 @@ def walking_checks(arrays: dict, period: float, double_support: float, mass: flo
         humps = (float(f[i1]), float(f[i1 : i2 + 1].min()), float(f[i2]))
     two_humps = bool(humps[0] - humps[1] > HUMP_MIN_BW and humps[2] - humps[1] > HUMP_MIN_BW)
     issue = bool(knee_max >= KNEE_SWING_MIN_DEG and two_humps)
-    upright = bool(hip_mid <= HIP_MIDSTANCE_MAX_DEG)
+    upright_stance = upright(hip_mid)
     return {
         "knee_swing_max_deg": knee_max,
         "fy_first_dip_second_bw": list(humps),
         "two_fy_humps": two_humps,
         "hip_stance_max_deg": hip_max,
         "hip_midstance_deg": hip_mid,
-        "upright_stance": upright,
+        "upright_stance": upright_stance,
         "issue_checks": issue,
-        "looks_like_walking": issue and upright,
+        "looks_like_walking": issue and upright_stance,
     }
 
 

@@ -47,7 +47,7 @@ def generalized_forces(pred: Any, body: BodyModel) -> tuple[tuple[str, ...], np.
     """OpenSim generalized forces ``(labels, (N, 6 + D) values)`` of a prediction.
 
     Args:
-        pred: A :class:`walk3d.results.prediction.Prediction` (joint angles in OpenSim's
+        pred: A :class:`walk3d.results.prediction.PredictedCycle` (joint angles in OpenSim's
             decomposition, joint moments on walk3d's joint axes).
         body: Its body model (joint kinds and axes).
     """

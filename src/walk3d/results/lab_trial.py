@@ -24,7 +24,7 @@ prediction like a walk over two plates.
 * **Events.** ``Foot Strike`` at a foot's first loaded sample, ``Foot Off`` at its first
   unloaded one, ``Right``/``Left`` context, for every one inside the trial.
 
-``pred`` is a :class:`walk3d.results.prediction.Prediction` (not imported: that module writes
+``pred`` is a :class:`walk3d.results.prediction.PredictedCycle` (not imported: that module writes
 this file).
 """
 

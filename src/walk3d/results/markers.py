@@ -6,7 +6,7 @@ subject's joint centres and segment lengths, so it scales with the subject. Righ
 markers are given; the left ones are their mirror images (z -> -z), except ``RBAK``.
 Positions are those of marker centres on the skin (no marker radius, no wands).
 :func:`marker_positions` follows them over a prediction (``pred``: a
-:class:`walk3d.results.prediction.Prediction`, not imported, as that module writes them).
+:class:`walk3d.results.prediction.PredictedCycle`, not imported, as that module writes them).
 
 Where walk3d has no anatomy (it is a stick model), a marker goes where a Plug-in Gait model
 would rebuild walk3d's own joint centres and axes from it: HJC, THI and KNE lie in the thigh's

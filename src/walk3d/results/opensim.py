@@ -6,7 +6,7 @@ Rajagopal et al. (2016) coordinate names (:data:`OPENSIM_COORDINATES`), angles i
 reactions with :func:`walk3d.io.external_loads.write_grf_storage` and the matching
 ExternalLoads XML.
 
-``pred`` is a :class:`walk3d.results.prediction.Prediction`; it is not imported here, because
+``pred`` is a :class:`walk3d.results.prediction.PredictedCycle`; it is not imported here, because
 :func:`walk3d.results.prediction.save_prediction` writes these files (no import cycle).
 """
 

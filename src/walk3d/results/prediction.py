@@ -1,9 +1,9 @@
 """The result of one walking prediction, and its result folder on disk.
 
-A :class:`Prediction` holds time series sampled at ``N`` nodes (time first, SI units, radians)
+A :class:`PredictedCycle` holds time series sampled at ``N`` nodes (time first, SI units, radians)
 and a JSON-ready ``summary`` dictionary. :func:`save_prediction` writes a result folder:
 
-* ``result.npz``: every array of :class:`Prediction` under its field name (``time``,
+* ``result.npz``: every array of :class:`PredictedCycle` under its field name (``time``,
   ``segment_names``, ``segment_mass``, ``segment_inertia``, ``segment_com_position``,
   ``segment_orientation``, ``dof_names``, ``joint_angle``, ``joint_names``, ``joint_moment``,
   ``joint_axis_active``, ``grf_force``, ``grf_cop``, ``grf_free_moment``, ``pelvis_position``),
@@ -47,7 +47,7 @@ import numpy as np
 
 from walk3d import outputs
 from walk3d.body.model import BodyModel
-from walk3d.io._atomic import atomic_folder, atomic_write_bytes, atomic_write_text
+from walk3d.io.atomic import atomic_folder, atomic_write_bytes, atomic_write_text
 from walk3d.io.checks import (
     plain_file_name,
     read_json_object,
@@ -65,8 +65,8 @@ from walk3d.results.osim_model import motion_extent, osim_model, prediction_body
 __all__ = [
     "C3D_FILES",
     "MANIFEST",
-    "Prediction",
     "OPENSIM_FILES",
+    "PredictedCycle",
     "RESULT_FILES",
     "VALIDATION_FILES",
     "VALIDATION_FOLDER",
@@ -110,8 +110,9 @@ _NAME_FIELDS = ("segment_names", "dof_names", "joint_names")
 
 
 @dataclass(frozen=True, eq=False)
-class Prediction:
-    """A predicted walking cycle (read-only arrays, time first, SI units, radians).
+class PredictedCycle:
+    """A predicted walking cycle (read-only arrays, time first, SI units, radians);
+    :class:`walk3d.Prediction` also tabulates, plots and saves it.
 
     Shapes use ``N`` time nodes, 13 segments, 24 DoF and 12 joints (the body model's orders,
     see :mod:`walk3d.body.model`); only the consistency between fields is checked, so other
@@ -198,7 +199,7 @@ class Prediction:
             raise KeyError(f"no DoF {name!r}") from None
 
     def __eq__(self, other: object) -> bool:
-        if not isinstance(other, Prediction):
+        if not isinstance(other, PredictedCycle):
             return NotImplemented
         for f in fields(self):
             a, b = getattr(self, f.name), getattr(other, f.name)
@@ -222,7 +223,7 @@ def _json_default(value: Any) -> Any:
     raise TypeError(f"summary value of type {type(value).__name__} is not JSON serialisable")
 
 
-def _npz_arrays(pred: Prediction) -> dict[str, np.ndarray]:
+def _npz_arrays(pred: PredictedCycle) -> dict[str, np.ndarray]:
     arrays: dict[str, np.ndarray] = {}
     for f in fields(pred):
         if f.name == "summary":
@@ -238,7 +239,7 @@ def _npz_arrays(pred: Prediction) -> dict[str, np.ndarray]:
 
 
 def save_prediction(
-    pred: Prediction,
+    pred: PredictedCycle,
     out_dir: str | PathLike[str],
     extra: Callable[[Path], object] | None = None,
     body: BodyModel | None = None,
@@ -341,9 +342,9 @@ def record_file(out_dir: str | PathLike[str], name: str) -> None:
     check_complete(out)
 
 
-def load_result(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> Prediction:
-    """Read a result folder written by :func:`save_prediction` back into a :class:`Prediction`
-    (the views in ``remade`` may be missing, see :func:`check_complete`).
+def load_result(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> PredictedCycle:
+    """Read a result folder written by :func:`save_prediction` back into a
+    :class:`PredictedCycle` (the views in ``remade`` may be missing, see :func:`check_complete`).
 
     Raises:
         DataFileError: the folder is incomplete (:func:`check_complete`), ``result.npz`` is
@@ -356,7 +357,7 @@ def load_result(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> P
     npz_path = out / "result.npz"
     values: dict[str, Any] = {"summary": read_json_object(out / "summary.json", "walk3d summary")}
     arrays = read_npz(npz_path, "walk3d result")
-    for f in fields(Prediction):
+    for f in fields(PredictedCycle):
         if f.name == "summary":
             continue
         arr = arrays.get(f.name)
@@ -376,6 +377,6 @@ def load_result(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> P
             arr = require_finite(npz_path, f.name, arr, allow_nan=f.name == "grf_cop")
             values[f.name] = np.radians(arr) if f.name == "joint_angle" else arr
     try:
-        return Prediction(**values)
+        return PredictedCycle(**values)
     except ValueError as exc:
         raise DataFileError(npz_path, str(exc)) from None

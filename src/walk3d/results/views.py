@@ -9,7 +9,7 @@ from collections.abc import Callable
 from os import PathLike
 from pathlib import Path
 
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 from walk3d.outputs import replace_files, write_errors
 from walk3d.results.prediction import MANIFEST, VIEW_FILES
 

@@ -26,7 +26,7 @@ from walk3d.problem.full_cycle import (
 from walk3d.problem.layout import full_coordinate_maps
 from walk3d.problem.schedule import loop_check_times, range_rows
 from walk3d.problem.settings import PredictionSettings, body_for
-from walk3d.solve.ipopt import SolveOutcome, _z_from_x, full_stage_start
+from walk3d.solve.ipopt import SolveOutcome, full_stage_start, lifted_z
 from walk3d.solve.options import ipopt_options
 from walk3d.solve.plan import SUCCESS
 from walk3d.solve.progress import bound_violation, interruptible, raise_if_interrupted
@@ -166,7 +166,7 @@ def solve_full_cycle(
         x_ref = similarity.subject_x(half.x, 1.0 / scale)
         z0 = [mirrored_start(x_ref) if start is None else similarity.subject_x(start, 1 / scale)]
         for s in full.steps:
-            zs = full_stage_start(s, _z_from_x(s, x_ref))
+            zs = full_stage_start(s, lifted_z(s, x_ref))
             zs[:N_X][own] = 0.0
             z0.append(zs)
         z0 = np.concatenate(z0)

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field, replace
 import casadi as ca
 import numpy as np
 
+from walk3d.contact import crouch
 from walk3d.contact.phases import GaitPhases
 from walk3d.model import terms
 from walk3d.problem import descriptors, layout, similarity
@@ -91,12 +92,13 @@ def initial_guess(solver: Solver, seed: int, attempt: int = 0) -> np.ndarray:
     )
     x0[layout.fixed_zero_mask()] = 0.0
     x0[layout.I_HALF_STEP] = 0.08  # m, at the reference stature (solve() solves that problem)
-    return _z_from_x(solver, x0)
+    return lifted_z(solver, x0)
 
 
-def _z_from_x(solver: Solver, x: np.ndarray, s0: tuple[float, ...] | None = None) -> np.ndarray:
-    """``z`` with the coefficients ``x`` and the node coordinates lifted from them; with
-    predicted descriptors at ``s0`` (default: the first guess), clipped to their bounds."""
+def lifted_z(solver: Solver, x: np.ndarray, s0: tuple[float, ...] | None = None) -> np.ndarray:
+    """The NLP decision vector ``z`` of the coefficients ``x``: the node coordinates lifted
+    from them and W0 at standing, within the balance stage's bounds; with predicted
+    descriptors, those at ``s0`` (default: the first guess), clipped to their bounds."""
     lay, g = solver.layout, solver.settings.gait
     z = np.zeros(lay.n_z)
     z[lay.z("x")], z[lay.z("w0")] = x, STANDING_W0
@@ -203,7 +205,7 @@ def _reject_crouch(solver: Solver, z: np.ndarray, record: dict, note) -> None:
         grid = descriptors.free_grid(solver.settings.solver.nodes)
         tau = np.array(grid.tau(phases.period, phases.double_support), dtype=float)
     hip = upright.midstance_hip_flexion_deg(z, lay, tau, phases)
-    if hip <= upright.HIP_MIDSTANCE_MAX_DEG:
+    if crouch.upright(hip):
         return
     record["optimum_status"], record["status"] = record["status"], upright.CROUCHED
     record["midstance_hip_flexion_deg"] = hip
@@ -279,7 +281,7 @@ def warm_stage(
     if warm is not None:
         z0, fn = np.asarray(warm["z"], dtype=float), solver.stage(stage, warm=True)
     else:
-        z0 = full_stage_start(solver, _z_from_x(solver, np.asarray(x_ref, dtype=float), s0))
+        z0 = full_stage_start(solver, lifted_z(solver, np.asarray(x_ref, dtype=float), s0))
         fn = solver.stage(stage)
     z, record, duals = _run(fn, solver, z0, stage.name, stage.problem,
                             _listener(on_stage, stage), duals=warm)  # fmt: skip

@@ -15,7 +15,7 @@ Each function is built, and read or written, on first use (:class:`LazyFunctions
 from the atlas needs only the full stage's node functions, three of the seven. An entry is one
 ASCII file ``model-<key>-<name>.casadi`` per function: a header line ``walk3d-model-cache <schema>
 <sha256 of the rest>``, then a :class:`casadi.StringSerializer` payload (the key, the names,
-the functions). It is written through :func:`walk3d.io._atomic.atomic_write_text` (temporary
+the functions). It is written through :func:`walk3d.io.atomic.atomic_write_text` (temporary
 file, then ``os.replace``), so concurrent campaign workers never read half an entry; the
 checksum catches any other damage. Every read failure counts as a miss (the caller rebuilds)
 and every write failure is logged and ignored: the cache never makes a build fail.
@@ -44,7 +44,7 @@ import casadi as ca
 import numpy as np
 
 from walk3d import constants
-from walk3d.io._atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text
 
 __all__ = ["SCHEMA", "LazyFunctions", "cache_dir", "cache_enabled", "cache_entries", "cache_usage",
            "clear_entries", "model_key", "read_functions", "write_functions"]  # fmt: skip

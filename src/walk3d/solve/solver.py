@@ -121,9 +121,10 @@ class Solver:
         b, rows = self.nlp_bounds(kind), self.stage_rows[kind]
         return Bounds(b.lbz, b.ubz, b.lbg[rows], b.ubg[rows])
 
-    def _problem(self, kind: str) -> dict:
-        """The NLP dict of ``kind`` (posture, balance, full; ``step``: the full one with its
-        anchor shift, :func:`walk3d.problem.nlp.build_nlp`) with its derivative functions."""
+    def nlp_problem(self, kind: str) -> dict:
+        """The NLP dict of ``kind`` on all its rows (posture, balance, full; ``step``: the full
+        one with its anchor shift, :func:`walk3d.problem.nlp.build_nlp`) with its derivative
+        functions, built once."""
         kind = "full" if kind == "free" else kind
         key = f"nlp:{kind}"
         with self._lock_for(key):
@@ -143,7 +144,7 @@ class Solver:
         """The NLP dict of ``kind`` with its derivatives, on ``rows`` (default: those its stage
         solvers see)."""
         rows = self.stage_rows[kind] if rows is None else rows
-        return derivatives.select_rows(self._problem(kind), rows)
+        return derivatives.select_rows(self.nlp_problem(kind), rows)
 
     def _stage(self, stage: Stage | str) -> Stage:
         return self.plan[stage] if isinstance(stage, str) else stage
@@ -178,7 +179,7 @@ class Solver:
         with self._lock_for("constraints"):
             if "constraints" not in self._built:
                 step = "nlp:full" not in self._built and "nlp:step" in self._built
-                prob = self._problem("step" if step else "full")
+                prob = self.nlp_problem("step" if step else "full")
                 self._built["constraints"] = derivatives.constraint_function(prob)
             return self._built["constraints"]  # type: ignore[return-value]
 

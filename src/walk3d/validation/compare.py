@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from walk3d.problem.settings import recorded_settings
-from walk3d.results.prediction import Prediction
+from walk3d.results.prediction import PredictedCycle
 from walk3d.trials.events import detect_contacts
 from walk3d.validation.quantities import QUANTITIES, Quantity, prediction_series
 from walk3d.validation.reference import N_PERCENT, Reference
@@ -100,7 +100,7 @@ def r_squared(p: np.ndarray, m: np.ndarray) -> float:
     return 1.0 - float(np.sum((p[ok] - m[ok]) ** 2)) / ss if ss > 0 and varies else float("nan")
 
 
-def cycle_timing(pred: Prediction) -> tuple[float, float]:
+def cycle_timing(pred: PredictedCycle) -> tuple[float, float]:
     """``(T, t_hs)``: the period and the right heel-strike time of a prediction (module doc)."""
     inputs = recorded_settings(pred.summary) if isinstance(pred.summary, dict) else {}
     period, td = inputs.get("period"), inputs.get("double_support")
@@ -116,7 +116,7 @@ def cycle_timing(pred: Prediction) -> tuple[float, float]:
     return period, float(strikes[0] - t[0])
 
 
-def align_prediction(pred: Prediction) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+def align_prediction(pred: PredictedCycle) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Prediction quantities on 0–100 % from right heel strike (module doc), 101 samples."""
     period, t_hs = cycle_timing(pred)
     t = pred.time - pred.time[0]
@@ -129,7 +129,7 @@ def align_prediction(pred: Prediction) -> tuple[np.ndarray, dict[str, np.ndarray
     }
 
 
-def compare(pred: Prediction, reference: Reference, name: str = "prediction") -> Comparison:
+def compare(pred: PredictedCycle, reference: Reference, name: str = "prediction") -> Comparison:
     """Table 2 of ``pred`` against ``reference`` (module doc)."""
     percent, predicted = align_prediction(pred)
     rows = []

@@ -56,7 +56,7 @@ from walk3d.problem import layout
 from walk3d.problem.settings import PredictionSettings
 from walk3d.results.angles import ball_joint_angles
 from walk3d.results.evaluate import CycleEvaluation, evaluate_cycle, make_prediction
-from walk3d.results.prediction import Prediction
+from walk3d.results.prediction import PredictedCycle
 from walk3d.trials.kinematics import MeasuredKinematics, foot_pitch, joint_coordinates
 from walk3d.validation.projection import LEG_DOFS, project_stance
 
@@ -241,8 +241,8 @@ def _fit_rmse(body, angles, x, obs, period) -> dict[str, float]:
     return out
 
 
-def measured_prediction(fit: GaitFit, source: str) -> Prediction:
-    """A :class:`Prediction` of the fitted measured gait (no optimization), e.g. to compare
+def measured_prediction(fit: GaitFit, source: str) -> PredictedCycle:
+    """A :class:`PredictedCycle` of the fitted measured gait (no optimization), e.g. to compare
     walk3d's inverse dynamics on measured motion with the measured loads."""
     ev = fit.evaluation
     recorded = fit.settings.model_dump()

@@ -38,7 +38,7 @@ import numpy as np
 from walk3d.body.model import build_body
 from walk3d.results.angles import pelvis_angles
 from walk3d.results.opensim import OPENSIM_COORDINATES
-from walk3d.results.prediction import Prediction
+from walk3d.results.prediction import PredictedCycle
 
 __all__ = [
     "GROUPS",
@@ -150,7 +150,7 @@ def _euler_axes(angles: np.ndarray) -> np.ndarray:
     return np.stack([e_add, e_rot, e_flex], axis=1)
 
 
-def generalized_moments(pred: Prediction) -> dict[str, np.ndarray]:
+def generalized_moments(pred: PredictedCycle) -> dict[str, np.ndarray]:
     """OpenSim-style generalized forces (N m) of every DoF, keyed by walk3d DoF name.
 
     See the module doc: ball joints are projected on their Z-X-Y Euler axes, hinges and the
@@ -177,7 +177,7 @@ def generalized_moments(pred: Prediction) -> dict[str, np.ndarray]:
     return out
 
 
-def prediction_series(pred: Prediction) -> dict[str, np.ndarray]:
+def prediction_series(pred: PredictedCycle) -> dict[str, np.ndarray]:
     """Every quantity of :data:`QUANTITIES` for the prediction's right side, on ``pred.time``.
 
     Units as in the module doc (N/kg, N m/kg, degrees); body mass is the sum of the segment

@@ -27,14 +27,14 @@ from pathlib import Path
 from typing import Any
 
 from walk3d.body.model import build_body
-from walk3d.io._atomic import atomic_folder
+from walk3d.io.atomic import atomic_folder
 from walk3d.io.checks import positive_numbers
 from walk3d.io.cycle_table import read_cycle_table
 from walk3d.io.storage import read_storage
 from walk3d.io.tables import write_csv_table
 from walk3d.outputs import check_output_folder, write_errors
 from walk3d.problem.settings import recorded_settings
-from walk3d.results.prediction import VALIDATION_FILES, Prediction
+from walk3d.results.prediction import VALIDATION_FILES, PredictedCycle
 from walk3d.trials.kinematics import kinematics_from_storage, kinematics_from_table
 from walk3d.trials.trial import Trial, classify_storage, load_c3d_trial, load_trial
 from walk3d.validation.compare import Comparison, compare, cycle_timing
@@ -150,7 +150,7 @@ def table2_rows(comparisons: Sequence[Comparison]) -> tuple[tuple[str, ...], lis
     return tuple(cols), rows
 
 
-def _subject(pred: Prediction) -> tuple[float, float, str, list[str]]:
+def _subject(pred: PredictedCycle) -> tuple[float, float, str, list[str]]:
     inputs = recorded_settings(pred.summary) if isinstance(pred.summary, dict) else {}
     notes = []
     mass = float(inputs.get("mass", pred.body_mass))
@@ -163,7 +163,7 @@ def _subject(pred: Prediction) -> tuple[float, float, str, list[str]]:
 
 
 def validate(
-    predictions: Mapping[str, Prediction],
+    predictions: Mapping[str, PredictedCycle],
     references: Sequence[str | PathLike[str]],
     out_dir: str | PathLike[str] | None = None,
     *,

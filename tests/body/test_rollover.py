@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from walk3d.kinematics.rollover import RollOver, arc_ankle_path, arc_rollover, fit_rollover
+from walk3d.body.rollover import RollOver, arc_ankle_path, arc_rollover, fit_rollover
 
 
 def test_spline_interpolates_its_knots_with_exact_derivatives():
