@@ -5,6 +5,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
+from walk3d.model.settings import role
 from walk3d.problem import nlp
 from walk3d.problem.settings import ModelSettings, PredictionSettings, body_for
 from walk3d.solve import ipopt, model_cache, solver
@@ -20,7 +21,7 @@ def cache_dir(tmp_path, monkeypatch):
 
 
 def _key(settings: PredictionSettings) -> str:
-    return solver._model_key(body_for(settings), settings.model)
+    return solver.model_key(body_for(settings), settings.model)
 
 
 def _small_functions() -> dict[str, ca.Function]:
@@ -166,13 +167,17 @@ def test_key_follows_the_model_not_the_solver_options():
     assert base == _key(SETTINGS.replace(**{"nodes": 20, "max_iter": 50, "tol": 1e-8}))
     descriptors = {"speed": 1.1, "period": 1.2, "double_support": 0.2}  # node parameters
     assert base == _key(SETTINGS.replace(**descriptors))
-    for change in [{"mass": 70.0}, {"criterion": "en"},
-                   {"transition_ratios": (0.2, 0.05, 0.1, 0.3)}]:  # fmt: skip
+    # the heel-strike map and the bounds are the NLP's, not the node functions'
+    for change in [{"transition_ratios": (0.2, 0.05, 0.1, 0.3)}, {"swing_clearance": 0.01}]:
+        assert _key(SETTINGS.replace(**change)) == base, change
+    for change in [{"mass": 70.0}, {"criterion": "en"}, {"cop_margin": 0.01}]:
         assert _key(SETTINGS.replace(**change)) != base, change
 
 
 class _Recorder:
     """Settings that record which fields are read."""
+
+    model_fields = ModelSettings.model_fields  # the roles, read off the class
 
     def __init__(self, settings: PredictionSettings):
         self._settings, self.read = settings, set()
@@ -200,9 +205,11 @@ def test_model_functions_read_only_the_model_settings_of_the_key(recorded):
     assert read == {"absolute", "balance_split", "changes", "cop_margin", "criterion",
                     "free_moment_radius", "friction", "handover", "passive",
                     "smoothing"}  # fmt: skip
-    # the model's other fields shape the body (calibrated roll-over) or the NLP's bounds and
-    # heel-strike map, not these functions: in the key, they cost a rebuild when changed
+    # the model's other fields shape the body (calibrated roll-over, what-if changes) or the
+    # NLP's bounds and heel-strike map, not these functions: the key leaves them out
     assert read < set(ModelSettings.model_fields)
+    assert read - {"changes"} <= {n for n in ModelSettings.model_fields
+                                  if role(ModelSettings, n).nodes}  # fmt: skip
     rougher = SETTINGS.replace(friction=0.6)
     assert _key(rougher) != _key(SETTINGS)
     node = nlp.node_function(body_for(rougher), rougher.model)
