@@ -12,9 +12,9 @@ Conventions used everywhere in the package (see ``docs/conventions.md``):
 from walk3d.constants import G, __version__
 
 __all__ = ["G", "Node", "Prediction", "Term", "__version__", "load_result", "predict",
-           "register_term"]  # fmt: skip
+           "register_term", "track"]  # fmt: skip
 
-_API = ("Prediction", "load_result", "predict")
+_API = ("Prediction", "load_result", "predict", "track")
 _TERMS = {"Term": "Term", "Node": "Node", "register_term": "register"}
 
 

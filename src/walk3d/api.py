@@ -26,7 +26,15 @@ if TYPE_CHECKING:
 
     from walk3d.problem.settings import PredictionSettings
 
-__all__ = ["Prediction", "criterion_value", "gait_fields", "load_result", "predict", "settings"]
+__all__ = [
+    "Prediction",
+    "criterion_value",
+    "gait_fields",
+    "load_result",
+    "predict",
+    "settings",
+    "track",
+]
 
 _AXES = "xyz"
 
@@ -212,6 +220,32 @@ def predict(speed: float = 1.3806, *, period: float | None = None,
         warnings.warn(f"walk3d: the solve did not converge ({pred.summary.get('status')}); "
                       "this is not a valid prediction", RuntimeWarning, stacklevel=2)  # fmt: skip
     return pred
+
+
+def track(*, ik: str | PathLike[str] | None = None, grf: str | PathLike[str] | None = None,
+          table: str | PathLike[str] | None = None, mass: float = 68.8, height: float = 1.77,
+          sex: str = "male", out: str | PathLike[str] | None = None, seed: int = 0,
+          **options: Any) -> Any:  # fmt: skip
+    """Track a measured gait (``ik`` with ``grf``, or a cycle ``table``) inside walk3d's model:
+    every constraint of :func:`predict`, the criterion replaced by the deviation from the data
+    with a small weight left on it (docs/tracking.md). ``options``: ``speed``, ``period``,
+    ``double_support`` (default: the trial's), ``criterion``, ``weight`` (of the tracking, against
+    the criterion's 1) and other settings fields. Returns a :class:`walk3d.tracking.Tracked`
+    (``prediction``, ``rows``: RMSE per DoF and force component, ``binding``). Raises ValueError
+    (or :class:`walk3d.io.errors.DataFileError`) for bad input, before any solve."""
+    from walk3d.tracking import track as run
+    from walk3d.tracking import track_settings, write_tracking
+    from walk3d.validation.target import tracking_target
+
+    given = {k: options.pop(k, None) for k in ("speed", "period", "double_support")}
+    target = tracking_target(table=table, ik=ik, grf=grf, mass=mass, **given)
+    if out is None:
+        return run(target, mass=mass, height=height, sex=sex, seed=seed, **given, **options)
+    from walk3d.pipeline import check_result_folder
+
+    check_result_folder(out)
+    settings = track_settings(target, mass=mass, height=height, sex=sex, **given, **options)
+    return write_tracking(target, settings, out, seed)
 
 
 def _real(value: Any) -> bool:

@@ -161,12 +161,14 @@ def predict(
     on_stage: Callable[[str], None] | None = None,
     warm_from: np.ndarray | None = None,
     animate: bool = False,
+    on_outcome: Callable[[object], None] | None = None,
 ) -> PredictedCycle:
     """Predict one gait cycle; write the result folder when ``out_dir`` is given.
     ``warm_from``: another prediction's decision vector (the subject's, ``summary.json``'s
     ``coefficients``) to start from instead of standing (:func:`walk3d.solve.starts.solve_warm`;
     the settings must predict a descriptor). ``animate``: also write ``animation.mp4``
-    (:func:`write_result`)."""
+    (:func:`write_result`). ``on_outcome``: called with the solve's
+    :class:`~walk3d.solve.ipopt.SolveOutcome` (its multipliers: ``walk3d track``)."""
     from walk3d.solve import run_solver
     from walk3d.solve.landing import solve_with_landing
     from walk3d.solve.starts import solve_warm
@@ -196,6 +198,8 @@ def predict(
     settings = with_predicted(settings, outcome.descriptors, outcome.handover)
     if full and outcome.converged:
         outcome = _full_cycle(settings, outcome, on_stage)
+    if on_outcome:
+        on_outcome(outcome)
     if on_stage:
         on_stage("evaluating the cycle")
     body = body_for(settings)

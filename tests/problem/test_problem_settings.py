@@ -25,6 +25,8 @@ linear_solver hsl_library max_iter full_max_iter tol""".split()
 """The 37 fields of the flat settings that summary.json files before the groups record."""
 ADDED_SINCE = [
     "cop_margin",
+    "loop_tolerance",
+    "tracking",
     "swing_clearance",
     "heel_strike_nodes",
     "reject_crouch",

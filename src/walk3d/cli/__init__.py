@@ -24,6 +24,7 @@ from walk3d.cli import (  # noqa: F401  (register the commands)
     compare_command,
     report_command,
     sweep_command,
+    track_command,
     validation,
     verify_command,
 )

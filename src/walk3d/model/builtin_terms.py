@@ -19,6 +19,7 @@ from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import Pose
 from walk3d.model import effort
 from walk3d.model.term import Node, Parts, Term
+from walk3d.model.tracking import TRACK_REF
 
 ACCEL_REF = 15.0
 """rad/s²: RMS joint angular acceleration over the DoFs of a measured adult (Falisse 2019
@@ -193,5 +194,7 @@ BUILTIN: tuple[Term, ...] = (
          "active moments over angle-dependent strengths, squared (1)", needs_moments=True),
     Term("effort3", _effort3, effort.EFFORT3_REF,
          "the same, cubed (1)", needs_moments=True),
+    Term("track", None, TRACK_REF, "the joint angles' deviation from a measured gait (rad), "
+         "on the coordinates at the nodes (ModelSettings.tracking)"),
 )  # fmt: skip
 """The built-in terms, in the order they are reported."""

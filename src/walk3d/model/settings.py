@@ -19,6 +19,7 @@ from pydantic import BaseModel, ConfigDict, field_validator, model_validator
 
 from walk3d.model import terms
 from walk3d.model.element import Element
+from walk3d.model.tracking import Tracking
 from walk3d.model.whatif import Changes
 
 __all__ = ["ModelSettings", "Role", "SettingsGroup", "elements", "is_on", "keyed_fields",
@@ -135,6 +136,13 @@ class ModelSettings(SettingsGroup):
     """Initial slope ``s`` of the trailing foot's share ``(1 − x)²(1 + (2 − s)x)``, ``x`` = time
     since heel strike / Td (:mod:`walk3d.contact.phases`), in [0, 3]: the leading foot loads with
     a slope, as measured. None: the paper's ``exp(−(2x)³)``, which starts flat."""
+    loop_tolerance: Annotated[float, Role(nodes=False, off=0.0)] = 0.0
+    """How far the trailing foot may leave its roll-over pose in double support (m for the
+    position, quaternion vector units, about rad / 2, for the orientation). 0: the paper's
+    closed loop; above 0 only to see what the loop costs a tracking (``walk3d track --relax``)."""
+    tracking: Annotated[Tracking | None, Role(nodes=False, off=None)] = None
+    """A measured gait the ``track`` criterion term follows (:mod:`walk3d.model.tracking`,
+    ``walk3d track``); None: none. It reaches the NLP's objective, not its node functions."""
     changes: Annotated[Changes, Role(nodes=False, off=Changes())] = Changes()
     """What-if changes to the body and joints (:mod:`walk3d.model.whatif`); none: normal."""
     full_cycle: Annotated[bool, Role(nodes=False, off=False)] = False
@@ -154,6 +162,8 @@ class ModelSettings(SettingsGroup):
             (0 < self.friction <= 2, f"friction must be in (0, 2], got {self.friction}"),
             (0 <= self.cop_margin <= 0.05,
              f"cop_margin must be in [0, 0.05] m, got {self.cop_margin}"),
+            (0 <= self.loop_tolerance <= 0.1,
+             f"loop_tolerance must be in [0, 0.1], got {self.loop_tolerance}"),
             (0 <= self.swing_clearance <= 0.05,
              f"swing_clearance must be in [0, 0.05] m, got {self.swing_clearance}"),
             (0 <= self.free_moment_radius <= 0.1,
@@ -167,6 +177,8 @@ class ModelSettings(SettingsGroup):
             ((self.rollover_s is None) == (self.rollover_ankle is None)
              and (self.rollover_s is None or len(self.rollover_s) == len(self.rollover_ankle)),
              "rollover_s and rollover_ankle go together, one ankle point per knot"),
+            ("track" not in terms.parse(self.criterion) or self.tracking is not None,
+             "the criterion term track needs a measured gait to follow (walk3d track)"),
         ])  # fmt: skip
         return self
 

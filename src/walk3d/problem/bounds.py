@@ -96,7 +96,8 @@ def bounds(
     loop = np.r_[R["loop_position"], R["loop_orientation"]]
     for k in range(n_nodes):
         if sch.double_support[k]:
-            glo[k, loop], ghi[k, loop] = 0.0, 0.0
+            tol = settings.model.loop_tolerance
+            glo[k, loop], ghi[k, loop] = 0.0 - tol, tol
         if sch.swing[k]:
             glo[k, R["other_points_y"]] = settings.model.swing_clearance
         if per_foot and sch.double_support[k]:  # (constant zero rows in the first stage:

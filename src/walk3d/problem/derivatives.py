@@ -20,6 +20,7 @@ The values equal CasADi's own derivatives (``tests/problem/test_problem_derivati
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -61,6 +62,9 @@ class NlpPieces:
     threads: int = 1
     """Threads for the mapped node derivatives (``settings.solver.threads``)."""
     quad: np.ndarray | None = None
+    track: Any = None
+    """The track term's quadratic on ``z`` (:class:`walk3d.problem.tracking.Quadratic`), or
+    None."""
     """(N_X,) ``q`` of an objective part ``Σ q_i x_i²`` on the coefficients (the jerk term),
     or None."""
     free: coupling.FreeCoupling | None = None
@@ -226,6 +230,10 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     iq = np.flatnonzero(pc.quad) if pc.quad is not None else np.zeros(0, dtype=int)
     if iq.size:
         grad.add(2 * ca.DM(pc.quad[iq]) * pc.x[iq.tolist()], iq, np.zeros(iq.size, dtype=int))
+    tq = pc.track
+    if tq is not None:
+        zt = pc.z[tq.index.tolist()]
+        grad.add(2 * ca.DM(tq.q) * zt + ca.DM(tq.c), tq.index, np.zeros(tq.index.size, dtype=int))
 
     # Hessian of the Lagrangian: node 0 also carries the heel-strike rows (through hs_map)
     rows_nodes, rows_hs = lay.g("node"), lay.g("hs")
@@ -249,6 +257,8 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
         hess.add(nz[np.flatnonzero(keep).tolist()], gr[keep], gc[keep])
     if iq.size:
         hess.add(2 * lam_f * ca.DM(pc.quad[iq]), iq, iq)
+    if tq is not None:
+        hess.add(2 * lam_f * ca.DM(tq.q), tq.index, tq.index)
     if hess_extra is not None:
         rx, cx = triplets(hess_extra.sparsity())
         hess.add(hess_extra.nz[:], rx, cx)

@@ -243,6 +243,27 @@ class NlpLayout:
     def n_g(self) -> int:
         return sum(self._g().values())
 
+    def g_names(self) -> list[str]:
+        """A name for each row of ``g``: ``node 3 root_support[2]``, ``range 5``, ..."""
+        per_node = [f"{name}[{i}]" for name, rows in G_ROWS.items()
+                    for i in range(rows.stop - rows.start)]  # fmt: skip
+        out = [f"lift {k} {i}" for k in range(self.nodes) for i in range(N_Y)]
+        out += [f"node {k} {r}" for k in range(self.nodes) for r in per_node]
+        out += [f"heel-strike wrench[{i}]" for i in range(N_W0)]
+        out += [f"range {i}" for i in range(self.n_range)]
+        out += [f"loop check {i}" for i in range(self.n_loop)]
+        return out + [f"descriptor {i}" for i in range(self.n_s)]
+
+    def z_names(self, dofs: tuple[str, ...]) -> list[str]:
+        """A name for each entry of ``z`` (``dofs``: the 24 DoF names): ``Y 3 knee_flexion_r``
+        (a node's coordinate value; ``rate``, ``accel`` for the others), ``x 12``, ..."""
+        coords = [*dofs, "foot_r", "foot_l"]
+        kinds = ("", " rate", " accel")
+        y = [f"Y {k} {c}{kind}" for k in range(self.nodes) for kind in kinds for c in coords]
+        return ([f"x {i}" for i in range(N_X)] + y + [f"W0[{i}]" for i in range(N_W0)]
+                + [f"slack {k} {d}" for k in range(self.nodes) for d in dofs]
+                + [f"s {i}" for i in range(self.n_s)])  # fmt: skip
+
     def node_columns(self, k: int) -> np.ndarray:
         """Positions in ``z`` of node k's variables ``[Y_k, W0, half step width, T_k]``."""
         y, w0, t = self.z("y").start, self.z("w0").start, self.z("t").start

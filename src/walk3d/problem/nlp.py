@@ -40,6 +40,7 @@ from walk3d.problem.schedule import (
     schedule,
 )
 from walk3d.problem.settings import ModelSettings, PredictionSettings, ratios_for
+from walk3d.problem.tracking import track_quadratic
 
 N_Y, G_ROWS, N_G, N_T, N_P = layout.N_Y, layout.G_ROWS, layout.N_G, layout.N_T, layout.N_P
 BALL_NORM_MAX = 0.97
@@ -355,6 +356,12 @@ def build_nlp(
     if quad is not None:
         f = f + ca.dot(ca.DM(quad), x * x)
     z = ca.vertcat(x, ca.vec(nc.ys), nc.w0, ca.vec(nc.ts))
+    weights = np.broadcast_to(np.asarray(weight, dtype=float), (sch.n,))
+    track = track_quadratic(settings, sch.times, weights, row_scale(settings.model))
+    track = track if dynamics else None
+    if track is not None:
+        zt = z[track.index.tolist()]
+        f = f + ca.dot(ca.DM(track.q), zt * zt) + ca.dot(ca.DM(track.c), zt) + track.const
     range_np = range_rows(body, settings)[0]
     t_loop = loop_check_times(settings, sch)
     loop = (functions or {}).get("loop")
@@ -372,6 +379,6 @@ def build_nlp(
                            hs_map=nc.hs_map, weight=weight, crit=crit, layout=lay,
                            g_loop=g_loop, x=x, threads=settings.solver.threads,
                            node_derivs=node_derivs, node0_derivs=node0_derivs,
-                           quad=quad)  # fmt: skip
+                           quad=quad, track=track)  # fmt: skip
         prob["derivatives"] = derivative_functions(pieces)
     return prob, sch, lift

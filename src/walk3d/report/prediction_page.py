@@ -17,6 +17,7 @@ from walk3d.plots.cycles import Panel, cycle_figure
 from walk3d.problem.settings import recorded_settings
 from walk3d.report import html as h
 from walk3d.report.norms import Norms
+from walk3d.report.tracking_page import tracking_sections
 from walk3d.results.prediction import PredictedCycle
 from walk3d.validation.compare import align_prediction
 from walk3d.validation.quantities import GROUP_UNITS, QUANTITIES
@@ -260,6 +261,7 @@ def prediction_sections(
         h.section("Left and right", _sides(s), level=level),
         h.section("Gait cycle against measured walking", _figures(pred, norms), level=level),
         h.section("Animation", _animation(video_dir, where), level=level),
+        *tracking_sections(video_dir, level=level),
     ]
 
 

@@ -9,7 +9,7 @@ not assumed.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -19,7 +19,7 @@ from walk3d.contact.phases import GaitPhases
 from walk3d.contact.transition import apply_ratios, centre_of_pressure
 from walk3d.kinematics import quaternion as qt
 from walk3d.kinematics.forward import point_triple, root_foot_triples, stack_q, stack_v
-from walk3d.model import terms, whatif
+from walk3d.model import terms, tracking, whatif
 from walk3d.model.criteria import node_terms, split_by_axis
 from walk3d.model.node import node_model
 from walk3d.model.ranges import joint_ranges
@@ -27,6 +27,7 @@ from walk3d.model.state import GaitState, evaluate, strength_weights
 from walk3d.problem import layout
 from walk3d.problem.jerk import jerk_per_dof, jerk_per_dof_full
 from walk3d.problem.settings import PredictionSettings, ratios_for
+from walk3d.problem.tracking import node_phases
 from walk3d.results.angles import ball_joint_angles
 from walk3d.results.prediction import PredictedCycle
 from walk3d.results.violations import block_violations, range_excess_deg, summarize_violations
@@ -43,6 +44,10 @@ class CycleEvaluation:
     step_width_m: float
     cycle_violations: dict
     """Worst constraint excess per kind on the evaluated samples (:mod:`.violations`)."""
+    integrands: dict = field(default_factory=dict, repr=False)
+    """Per criterion term (``C_tor``, ``C_en``, ``C_<term>``; not ``C_jerk``, which is on the
+    coefficients), its exact integrand at each sample split by axis, (n, 3) per s: the
+    criteria are their sums over the periodic samples times the spacing."""
 
 
 def _coords(x: np.ndarray, t: np.ndarray, period: float) -> list[tuple]:
@@ -129,6 +134,16 @@ def _contact_residual(body, st: GaitState, x, t, settings, ph, mask) -> float:
     return worst
 
 
+def _track(settings: PredictionSettings, t: np.ndarray, coords: list[tuple], axes: list[int]):
+    """(n, 3) the track term's integrand at the samples (:mod:`walk3d.model.tracking`), or
+    None without tracking."""
+    tr = settings.model.tracking
+    if tr is None:
+        return None
+    target = tr.target(node_phases(settings, t))
+    return np.column_stack(tracking.integrand(tr, [c[0] for c in coords[:24]], target, axes))
+
+
 def evaluate_cycle(
     body: BodyModel, settings: PredictionSettings, x: np.ndarray, n_samples: int = 101
 ) -> CycleEvaluation:
@@ -198,6 +213,7 @@ def evaluate_cycle(
     for k in range(2):
         cop[:, k], free[:, k] = centre_of_pressure(force[:, k], mom_o[:, k], min_fy=1e-6)
     a, b = strength_weights(body)
+    track = _track(settings, t, coords, axes)
     periodic = slice(0, n - 1)  # t = T repeats t = 0
     dt = T / (n - 1)
     crit = {}
@@ -206,10 +222,16 @@ def evaluate_cycle(
         tor_i = np.array([np.sum(v[periodic]) * dt for v in tor])
         en_i = np.array([np.sum(v[periodic]) * dt for v in en])
         crit[name] = {"C_tor": split_by_axis(tor_i, axes), "C_en": split_by_axis(en_i, axes)}
+        if smooth is None:
+            per_sample = {"C_tor": _by_axis(tor, axes, n), "C_en": _by_axis(en, axes, n)}
+            per_sample |= {f"C_{k}": v for k, v in extra.items()}
+            per_sample |= {} if track is None else {"C_track": track}
         for term, v in extra.items():
             crit[name][f"C_{term}"] = split_by_axis(np.sum(v[periodic], axis=0) * dt, [0, 1, 2])
         jerk = (jerk_per_dof_full if np.size(x) == layout.N_XF else jerk_per_dof)(x, T)
         crit[name]["C_jerk"] = split_by_axis(jerk, axes)
+        if track is not None:
+            crit[name]["C_track"] = split_by_axis(np.sum(track[periodic], axis=0) * dt, [0, 1, 2])
         if np.size(x) == layout.N_XF:  # the full cycle's unequal steps (SLA², dimensionless)
             sla = _step_shift(x) / (settings.gait.stride_length / 2)
             crit[name]["C_step_asymmetry"] = {"total": sla * sla}
@@ -244,7 +266,16 @@ def evaluate_cycle(
         stride_length_m=float(np.sum(pelvis_vx[periodic]) * dt),
         step_width_m=2 * float(x[layout.I_HALF_STEP]),
         cycle_violations=violations,
+        integrands=per_sample,
     )
+
+
+def _by_axis(per_dof: list, axes: list[int], n: int) -> np.ndarray:
+    """(n, 3) the per-DoF integrands ``per_dof`` (24 arrays) summed by axis label."""
+    out = np.zeros((n, 3))
+    for v, ax in zip(per_dof, axes, strict=True):
+        out[:, ax] += np.broadcast_to(v, (n,))
+    return out
 
 
 def weighted_total(criterion: str, values: dict) -> dict:

@@ -116,17 +116,26 @@ def cycle_timing(pred: PredictedCycle) -> tuple[float, float]:
     return period, float(strikes[0] - t[0])
 
 
-def align_prediction(pred: PredictedCycle) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """Prediction quantities on 0–100 % from right heel strike (module doc), 101 samples."""
+def on_percent(pred: PredictedCycle, values: np.ndarray) -> np.ndarray:
+    """``values`` (time first, any trailing shape) of ``pred`` at 0–100 % from right heel
+    strike (module doc), :data:`N_PERCENT` samples."""
     period, t_hs = cycle_timing(pred)
     t = pred.time - pred.time[0]
     keep = t < period - 1e-9 * period  # t = T repeats t = 0
     percent = np.linspace(0.0, 100.0, N_PERCENT)
     query = np.mod(t_hs + percent / 100.0 * period, period)
+    values = np.asarray(values, dtype=float)
+    flat = values.reshape(values.shape[0], -1)
+    out = np.column_stack([np.interp(query, t[keep], v[keep], period=period) for v in flat.T])
+    return out.reshape((N_PERCENT, *values.shape[1:]))
+
+
+def align_prediction(pred: PredictedCycle) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Prediction quantities on 0–100 % from right heel strike (module doc), 101 samples."""
     series = prediction_series(pred)
-    return percent, {
-        k: np.interp(query, t[keep], v[keep], period=period) for k, v in series.items()
-    }
+    keys = list(series)
+    stacked = on_percent(pred, np.column_stack([series[k] for k in keys]))
+    return np.linspace(0.0, 100.0, N_PERCENT), {k: stacked[:, i] for i, k in enumerate(keys)}
 
 
 def compare(pred: PredictedCycle, reference: Reference, name: str = "prediction") -> Comparison:
