@@ -9,7 +9,7 @@ from helpers import shared_data_dir
 
 from walk3d.body.model import build_body
 from walk3d.results.angles import ball_joint_angles
-from walk3d.tracking import relaxations, track_settings, tracking_spec
+from walk3d.tracking import only_dofs, relaxations, track_settings, tracking_spec
 from walk3d.validation.target import tracking_target
 
 FALISSE = shared_data_dir() / "falisse2019"
@@ -67,3 +67,14 @@ def test_relax_names_map_to_settings_in_si():
     for bad in (["loop"], ["toe=1"], ["loop=nan"], ["loop=1", "loop=2"]):
         with pytest.raises(ValueError, match="--relax"):
             relaxations(bad)
+
+
+def test_only_some_dofs_are_tracked(target):
+    legs = only_dofs(target, ["knee_flexion", "hip_flexion_r"])
+    names = [d for d, m in zip(legs.dof_names, legs.angle_mask, strict=True) if m]
+    assert names == ["hip_flexion_r", "knee_flexion_r", "knee_flexion_l"]
+    assert target.angle_mask.sum() > 3  # control: the target itself keeps its DoFs
+    with pytest.raises(ValueError, match="not a DoF"):
+        only_dofs(target, ["knee"])
+    with pytest.raises(ValueError, match="does not measure"):
+        only_dofs(target, ["neck_flexion"])

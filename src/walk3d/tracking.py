@@ -67,6 +67,23 @@ def relaxations(items: list[str]) -> dict[str, float]:
     return out
 
 
+def only_dofs(target: TrackingTarget, names: list[str]) -> TrackingTarget:
+    """``target`` with only the DoFs ``names`` measured (a DoF name, or one without its side
+    suffix for both sides: ``knee_flexion``). Raises ValueError for a name that is not a DoF or
+    that the target does not measure."""
+    from dataclasses import replace
+
+    keep = np.zeros(len(target.dof_names), dtype=bool)
+    for name in names:
+        hit = [i for i, d in enumerate(target.dof_names) if name in (d, d[:-2])]
+        if not hit:
+            raise ValueError(f"--only: {name!r} is not a DoF (e.g. knee_flexion, hip_flexion_r)")
+        if not target.angle_mask[hit].any():
+            raise ValueError(f"--only: the trial does not measure {name}")
+        keep[hit] = True
+    return replace(target, angle_mask=np.asarray(target.angle_mask) & keep)
+
+
 def tracking_spec(target: TrackingTarget, body: BodyModel) -> Tracking:
     """The ``track`` term's target from a measured cycle: each measured DoF's coordinate
     ``2 sin(θ/2)`` (hinges, ankle axes) or twice the joint quaternion's vector part along the
@@ -279,6 +296,11 @@ def audit(tracked: str | Path, predicted: str | Path) -> dict:
     from walk3d.results import audit as au
 
     ev_p, s_p = _evaluated(predicted)
+    if s_p.model.tracking is not None:  # a tracking as the reference: its criterion alone
+        weights = {k: w for k, w in terms.parse(s_p.model.criterion).items() if k != "track"}
+        plain = s_p.replace(tracking=None, loop_tolerance=0.0,
+                            criterion=",".join(f"{k}={w:g}" for k, w in weights.items()))
+        ev_p, s_p = _evaluated(predicted, plain)
     model = s_p.model.model_copy(update={"tracking": None})
     ev_t, s_t = _evaluated(tracked, s_p.model_copy(update={"model": model}))
     out: dict = {"criterion": s_p.model.criterion, "terms": {}, "limb_work": {}, "bursts": {}}

@@ -49,6 +49,14 @@ def track(
     ] = 100.0,
     threshold: PlateThreshold = 20.0,
     seed: Annotated[int, typer.Option("--seed", help="Random start.")] = 0,
+    only: Annotated[
+        str | None,
+        typer.Option(
+            "--only",
+            help="Track these DoFs alone, comma-separated (knee_flexion: both "
+            "sides); the others follow the criterion.",
+        ),
+    ] = None,
     relax: Annotated[
         list[str] | None,
         typer.Option(
@@ -79,7 +87,7 @@ def track(
         check_result_folder(out, "--out")
     except ValueError as exc:
         fail(str(exc))
-    from walk3d.tracking import relaxations, track_settings, write_tracking
+    from walk3d.tracking import only_dofs, relaxations, track_settings, write_tracking
     from walk3d.validation.target import tracking_target
 
     try:
@@ -91,6 +99,8 @@ def track(
     try:
         target = tracking_target(table=table, ik=ik, grf=grf, mass=mass, threshold=threshold,
                                  **given)  # fmt: skip
+        if only:
+            target = only_dofs(target, [n.strip() for n in only.split(",") if n.strip()])
         settings = track_settings(target, mass=mass, height=height, sex=sex,
                                   criterion=criterion, weight=weight, **given,
                                   **relaxed)  # fmt: skip
