@@ -298,8 +298,11 @@ def audit(tracked: str | Path, predicted: str | Path) -> dict:
     ev_p, s_p = _evaluated(predicted)
     if s_p.model.tracking is not None:  # a tracking as the reference: its criterion alone
         weights = {k: w for k, w in terms.parse(s_p.model.criterion).items() if k != "track"}
-        plain = s_p.replace(tracking=None, loop_tolerance=0.0,
-                            criterion=",".join(f"{k}={w:g}" for k, w in weights.items()))
+        plain = s_p.replace(
+            tracking=None,
+            loop_tolerance=0.0,
+            criterion=",".join(f"{k}={w:g}" for k, w in weights.items()),
+        )
         ev_p, s_p = _evaluated(predicted, plain)
     model = s_p.model.model_copy(update={"tracking": None})
     ev_t, s_t = _evaluated(tracked, s_p.model_copy(update={"model": model}))
