@@ -58,6 +58,8 @@ def test_the_settings_track_at_the_trials_descriptors(target):
     assert s.model.criterion.endswith("track=50") and s.model.tracking is not None
     given = track_settings(target, mass=62, height=1.7, sex="female", period=1.2)
     assert given.gait.period == 1.2
+    tor = track_settings(target, mass=62, height=1.7, sex="female", criterion="tor")
+    assert tor.model.criterion == "tor=1,track=100"
 
 
 def test_relax_names_map_to_settings_in_si():

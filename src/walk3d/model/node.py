@@ -2,9 +2,9 @@
 
 :func:`node_model` takes the gait state at a node (:func:`walk3d.model.state.evaluate`) and
 returns the moments the criterion sees (net less each enabled element,
-:mod:`walk3d.model.element`), the criterion
-terms' integrands and the what-if overload. The NLP's node function adds its constraint rows
-and slacks to it; :func:`walk3d.results.evaluate.evaluate_cycle` stacks it over the cycle.
+:mod:`walk3d.model.element`), the criterion terms' integrands and the what-if overload. The
+NLP's node function adds its constraint rows and slacks to it;
+:func:`walk3d.results.evaluate.evaluate_cycle` stacks it over the cycle.
 :func:`objective` is the weighted criterion's integrand, for both.
 """
 
