@@ -108,6 +108,9 @@ def check_output_file(
         raise ValueError(f"{option} must name a {suffix} file, got {shown}")
     if out.is_dir():
         raise ValueError(f"{option} {shown} is a folder")
+    if out.exists() and not out.is_file():
+        raise ValueError(f"{option} {shown} is not a regular file (a device, FIFO or socket): "
+                         "walk3d writes only regular files")  # fmt: skip
     _writable_base(out.parent, option, shown)
     return out
 

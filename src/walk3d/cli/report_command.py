@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from walk3d.cli.common import EXIT_WRITE, app, console, fail
+from walk3d.cli.common import EXIT_WRITE, app, check_output_file, console, fail
 
 
 @app.command()
@@ -40,8 +40,8 @@ def report(
     target = Path(out) if out is not None else None
     if target is not None and target.suffix.lower() not in (".html", ".htm"):
         fail(f"--out must name an .html file, got {target}")
-    if target is not None and target.is_dir():
-        fail(f"--out {target} is a folder")
+    if target is not None:
+        check_output_file(str(target))  # a folder, a device, FIFO or socket: refused
     if not Path(folder).is_dir():
         fail(f"{folder} is not a folder")
     found = find_data(data)

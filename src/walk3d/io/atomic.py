@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 import secrets
 import shutil
+import stat
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from os import PathLike
@@ -19,9 +20,22 @@ __all__ = [
     "atomic_write",
     "atomic_write_bytes",
     "atomic_write_text",
+    "check_replaceable",
     "fsync_dir",
     "temporary_sibling",
 ]
+
+
+def check_replaceable(target: Path) -> None:
+    """Refuse to write over anything but a regular file (or nothing): a device, FIFO or socket
+    at ``target`` (a link to one included) raises :class:`FileExistsError`, and is left as it
+    is (``os.replace`` would put a regular file in its place)."""
+    try:
+        mode = os.stat(target).st_mode
+    except (FileNotFoundError, NotADirectoryError):
+        return
+    if not stat.S_ISREG(mode):
+        raise FileExistsError(f"{target} is not a regular file: walk3d writes only regular files")
 
 
 def atomic_write(path: str | PathLike[str], write: Callable[[IO[bytes]], object]) -> Path:
@@ -32,6 +46,7 @@ def atomic_write(path: str | PathLike[str], write: Callable[[IO[bytes]], object]
     untouched. Returns the destination path.
     """
     target = Path(path)
+    check_replaceable(target)
     tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp")
     fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
     try:
@@ -52,6 +67,7 @@ def atomic_path(path: str | PathLike[str], suffix: str = ".tmp") -> Iterator[Pat
     when the block ends the file is synced and moved over ``path``; on any failure it is
     removed and an existing ``path`` is left untouched. ``suffix`` ends the temporary name."""
     target = Path(path)
+    check_replaceable(target)
     tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}{suffix}")
     try:
         yield tmp
