@@ -117,3 +117,15 @@ def test_missing_scipy_openblas_keeps_casadis(cache, tmp_path):
     out = _run("early", cache, PYTHONPATH=path)
     assert not out["active"] and "not installed" in out["describe"]
     assert out["status"] == "Solve_Succeeded"
+
+
+def test_a_damaged_bridge_is_built_again_not_loaded(bridged, cache):
+    """A truncated bridge (``blas-*.so``) would crash the dynamic loader: it fails its digest,
+    and the next process builds it again and runs as before."""
+    (bridge,) = cache.glob("blas-*.so")
+    data = bridge.read_bytes()
+    bridge.write_bytes(data[: len(data) // 3])
+    assert compiled.verified(bridge) is not None
+    again = _run("early", cache)
+    assert again["active"] and again["status"] == bridged["status"], again["describe"]
+    assert compiled.verified(bridge) is None and bridge.read_bytes() == data

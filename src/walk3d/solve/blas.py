@@ -42,7 +42,7 @@ from pathlib import Path
 
 import casadi as ca
 
-from walk3d.solve.compiled import CompileError, build_library, compiler
+from walk3d.solve.compiled import CompileError, build_library, compiler, verified
 from walk3d.solve.model_cache import cache_dir
 
 __all__ = ["ENV", "SONAME", "BlasStatus", "activate", "bundled_library", "status"]
@@ -168,7 +168,7 @@ def _try() -> BlasStatus:
         f"{_REVISION} {ca.__version__} {bundled.resolve()} {sob.__version__} {lib_dir}".encode()
     ).hexdigest()[:24]
     path = cache_dir() / f"blas-{key}.so"
-    if not path.is_file():
+    if not path.is_file() or verified(path):  # a damaged bridge is built again, not loaded
         why = _build(path, bundled, lib_dir, lib_name)
         if why:
             return BlasStatus(False, _BUNDLED, why)

@@ -37,6 +37,7 @@ from pathlib import Path
 
 import casadi as ca
 
+from walk3d.io.atomic import atomic_write_text
 from walk3d.solve.model_cache import cache_dir
 
 __all__ = ["CompileError", "build_library", "compile_functions", "compiler", "flags",
@@ -113,12 +114,47 @@ def any_libraries() -> bool:
         return False
 
 
+def digest_path(path: Path) -> Path:
+    """Where the SHA-256 of the library ``path`` is kept (``<library>.sha256``)."""
+    return path.with_name(path.name + ".sha256")
+
+
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def verified(path: Path) -> str | None:
+    """Why the library ``path`` must not be loaded, or None: it must match the digest written
+    when it was built (:func:`build_library`). A truncated or altered library could take the
+    process down in the dynamic loader, so it counts as missing and is built again."""
+    try:
+        expected = digest_path(path).read_text(encoding="ascii").strip()
+    except FileNotFoundError:
+        return "it has no digest (an unfinished build, or one of an earlier walk3d)"
+    except (OSError, UnicodeDecodeError) as exc:
+        return f"its digest cannot be read ({exc})"
+    try:
+        return None if _sha256(path) == expected else "it does not match its digest (damaged)"
+    except OSError as exc:
+        return f"it cannot be read ({exc})"
+
+
 def load_functions(key: str, names: list[str]) -> dict[str, ca.Function] | None:
-    """The compiled functions ``names`` stored under ``key``, or None unless all load."""
+    """The compiled functions ``names`` stored under ``key``, or None unless all are there,
+    match their digests (:func:`verified`) and load."""
     out = {}
     for name in names:
         path = _library(key, name)
         if not path.is_file():
+            return None
+        why = verified(path)
+        if why:
+            log.warning("ignoring compiled function %s: %s; walk3d compile builds it again",
+                        path, why)  # fmt: skip
             return None
         try:
             out[name] = ca.external(name, str(path))
@@ -133,8 +169,9 @@ def build_library(
 ) -> None:
     """Build the shared library ``path`` from ``source`` (the file name ``name`` tells the
     compiler its language: ``.c``, ``.s``): ``cc *before -shared SOURCE -o LIB *after`` in a
-    temporary folder next to ``path``, then moved into place (atomic). Raises
-    :class:`CompileError` with the compiler's last line of output if it fails."""
+    temporary folder next to ``path``, then moved into place (atomic) after its SHA-256
+    (:func:`digest_path`). Raises :class:`CompileError` with the compiler's last line of output
+    if it fails."""
     path.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=path.parent, prefix=".build-") as tmp:
         src, lib = Path(tmp) / name, Path(tmp) / "lib.so"
@@ -144,6 +181,9 @@ def build_library(
         if run.returncode != 0:
             tail = run.stderr.strip().splitlines()[-1:] or ["no output"]
             raise CompileError(f"{shlex.join(cmd[:1])} failed on {Path(name).stem}: {tail[0]}")
+        # the digest first: until the library is in place, a reader finds a mismatch, not a
+        # library without its digest's protection
+        atomic_write_text(digest_path(path), _sha256(lib) + "\n")
         os.replace(lib, path)
 
 

@@ -182,10 +182,11 @@ def write_functions(key: str, functions: dict[str, ca.Function]) -> Path | None:
         return None
 
 
-ENTRY_PATTERNS = {"models": "model-*.casadi", "libraries": "lib-*.so", "bridges": "blas-*.so"}
+ENTRY_PATTERNS = {"models": "model-*.casadi", "libraries": "lib-*.so", "bridges": "blas-*.so",
+                  "digests": "*.so.sha256"}  # fmt: skip
 """The cache folder's finished entries by kind: model functions (this module), compiled
-derivatives (:mod:`walk3d.solve.compiled`) and the BLAS bridge (:mod:`walk3d.solve.blas`).
-Temporaries of writes in progress are not entries."""
+derivatives (:mod:`walk3d.solve.compiled`), the BLAS bridge (:mod:`walk3d.solve.blas`) and the
+libraries' digests. Temporaries of writes in progress are not entries."""
 
 
 def cache_entries() -> dict[str, list[Path]]:
