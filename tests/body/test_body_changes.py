@@ -197,3 +197,23 @@ def test_shank_length_changes_are_checked_swapped_and_scaled():
     s = PredictionSettings(mass=62.0, height=1.70, sex="female", changes=c)
     ref, scale = reference_problem(s)
     assert ref.model.changes.shank_length == (("shank_r", pytest.approx(-0.02 / scale)),)
+
+
+@pytest.mark.parametrize(("changes", "words"), [
+    ({"strength": {"ankle": float("inf")}}, "finite number"),
+    ({"strength": {"ankle": True}}, "must be a number"),
+    ({"added_mass": {"torso": float("nan")}}, "finite number"),
+    ({"limits": {"ankle_dorsiflexion": (-float("inf"), float("inf"))}}, "finite number"),
+    ({"limits": {"ankle_dorsiflexion": (-1e300, 1e300)}}, "beyond ±π"),
+    ({"limits": {"ankle_dorsiflexion": (-5, 5)}}, "in degrees that is"),
+])  # fmt: skip
+def test_the_api_refuses_what_the_command_line_refuses(changes, words):
+    """The changes' one validator (walk3d.body.changes.check_changes) sees every value, before
+    any solve; a bool is refused before pydantic would read it as 1."""
+    from walk3d.api import settings
+
+    with pytest.raises(ValueError, match=words):
+        settings(1.2, changes=changes)
+    settings(
+        1.2, changes={"strength": {"ankle": 0.5}, "limits": {"ankle_dorsiflexion": (-0.1, 0.1)}}
+    )  # control

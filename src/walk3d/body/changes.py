@@ -10,6 +10,8 @@ the right half a cycle later, so a one-sided change needs the full-cycle problem
 
 from __future__ import annotations
 
+import math
+import numbers
 from dataclasses import replace
 
 import numpy as np
@@ -65,9 +67,17 @@ def check_changes(
     limits: tuple[tuple[str, float, float], ...],
     shank_length: tuple[tuple[str, float], ...] = (),
 ) -> None:
-    """Raise ValueError, one line, for the first bad change: an unknown name, a factor ≤ 0, a
-    negative mass, an empty limit or one that excludes standing (angle 0), a shank change that
-    is not a shank's or beyond ±:data:`MAX_SHANK_CHANGE_M`, a part named twice."""
+    """Raise ValueError, one line, for the first bad change: a value that is not a finite
+    number (a bool included), an unknown name, a factor ≤ 0, a negative mass, a limit beyond
+    ±π rad (with a hint when it looks like degrees), an empty limit or one that excludes
+    standing (angle 0), a shank change that is not a shank's or beyond
+    ±:data:`MAX_SHANK_CHANGE_M`, a part named twice."""
+    for what, items in (("strength factor", strength), ("added mass", added_mass),
+                        ("limit", limits), ("length change", shank_length)):  # fmt: skip
+        for name, *values in items:
+            for v in values:
+                if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
+                    raise ValueError(f"the {what} of {name!r} must be a finite number, got {v!r}")
     for name, factor in strength:
         if msg := _name_error(name, JOINT_KINDS, JOINT_NAMES, "joint"):
             raise ValueError(msg)
@@ -82,6 +92,11 @@ def check_changes(
     for name, lo, hi in limits:
         if msg := _name_error(name, DOF_KINDS, _DOF_NAMES, "DoF"):
             raise ValueError(msg)
+        if max(abs(lo), abs(hi)) > math.pi:
+            hint = (f"; in degrees that is {np.radians(lo):.4g}:{np.radians(hi):.4g} rad"
+                    if max(abs(lo), abs(hi)) <= 180 else "")  # fmt: skip
+            raise ValueError(f"limit of {name!r} ({lo:g}:{hi:g} rad) is beyond ±π rad: limits are "
+                             f"in radians (the command line's --range takes degrees){hint}")
         if not lo < hi:
             raise ValueError(f"limit of {name!r} is empty: {np.degrees(lo):.4g}:"
                              f"{np.degrees(hi):.4g} deg")  # fmt: skip

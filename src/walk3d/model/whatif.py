@@ -45,7 +45,12 @@ class Changes(BaseModel):
     @field_validator("strength", "added_mass", "limits", "shank_length", mode="before")
     @classmethod
     def _items(cls, v: Any) -> Any:
-        return _pairs(v)
+        v = _pairs(v)
+        for item in v if isinstance(v, (tuple, list)) else ():
+            values = item[1:] if isinstance(item, (tuple, list)) else ()
+            if any(isinstance(x, bool) for x in values):  # before pydantic reads True as 1.0
+                raise ValueError(f"a change of {item[0]!r} must be a number, not {values!r}")
+        return v
 
     @model_validator(mode="after")
     def _valid(self) -> Changes:
