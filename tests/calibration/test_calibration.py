@@ -39,6 +39,11 @@ def test_apply_calibration_changes_only_the_rollover():
         (lambda d: d["rollover"]["s"].reverse(), "strictly increasing", True),
         (lambda d: d["rollover"]["ankle_m"].pop(), "number triples", True),
         (lambda d: d.update(walk3d_calibration=7), "version 1", True),
+        (lambda d: d["rollover"]["ankle_m"][0].__setitem__(0, 1e9), "more than 1 m", True),
+        (lambda d: d["rollover"]["ankle_m"][2].__setitem__(1, 5.0), "more than 1 m", True),
+        (lambda d: d["transition"].update(mu_x=-0.2), "mu_x' must be in", True),
+        (lambda d: d["transition"].update(mu_x=40.0), "mu_x' must be in", True),
+        (lambda d: d["rollover"].update(s=[0.1, 0.2, 0.3, 0.4, 0.5]), "flat foot", True),
     ],
 )
 def test_malformed_calibration_names_file_and_line(tmp_path, edit, message, line):

@@ -95,8 +95,10 @@ def check_changes(
         if max(abs(lo), abs(hi)) > math.pi:
             hint = (f"; in degrees that is {np.radians(lo):.4g}:{np.radians(hi):.4g} rad"
                     if max(abs(lo), abs(hi)) <= 180 else "")  # fmt: skip
-            raise ValueError(f"limit of {name!r} ({lo:g}:{hi:g} rad) is beyond ±π rad: limits are "
-                             f"in radians (the command line's --range takes degrees){hint}")
+            raise ValueError(
+                f"limit of {name!r} ({lo:g}:{hi:g} rad) is beyond ±π rad: limits are "
+                f"in radians (the command line's --range takes degrees){hint}"
+            )
         if not lo < hi:
             raise ValueError(f"limit of {name!r} is empty: {np.degrees(lo):.4g}:"
                              f"{np.degrees(hi):.4g} deg")  # fmt: skip
