@@ -281,3 +281,34 @@ def test_an_empty_speed_folder_is_solved(tmp_path, solves):
     solves.clear()
     with pytest.warns(RuntimeWarning, match="solving 1.2 m/s again"):
         assert run_sweep(SETTINGS, SPEEDS, out).ran == 1 and solves[0] == 1.2
+
+
+@pytest.mark.parametrize("speed", [float("nan"), "1.2", "fast", True, None])
+def test_a_stored_speed_that_is_not_a_number_is_solved_again(tmp_path, solves, speed):
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, SPEEDS, out)
+    folder = speed_folder(out, 1.2)
+    summary = json.loads((folder / "summary.json").read_text())
+    summary["descriptors"]["speed"] = speed
+    for p in folder.iterdir():
+        p.unlink()
+    write_fake(Fake(summary), folder)
+    solves.clear()
+    with pytest.warns(RuntimeWarning, match=r"v_1.200 cannot be read .*solving 1.2 m/s again"):
+        report = run_sweep(SETTINGS, SPEEDS, out)
+    assert (report.ran, report.skipped, solves) == (1, 1, [1.2])
+
+
+def test_a_summary_whose_settings_are_at_another_speed_is_refused(tmp_path, solves):
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, SPEEDS, out)
+    folder = speed_folder(out, 1.2)
+    summary = json.loads((folder / "summary.json").read_text())
+    summary["settings"]["gait"]["speed"] = 1.4  # the table says 1.2, the problem was 1.4
+    for p in folder.iterdir():
+        p.unlink()
+    write_fake(Fake(summary), folder)
+    solves.clear()
+    with pytest.raises(SweepMismatch, match="is at 1.4 m/s, not 1.2 m/s"):
+        run_sweep(SETTINGS, SPEEDS, out)
+    assert solves == []

@@ -14,6 +14,7 @@ before any solve (:mod:`walk3d.campaign.sweep` has the layout).
 from __future__ import annotations
 
 import json
+import math
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -77,12 +78,17 @@ solved to be resumed: the subject, the free descriptors, the grid and every mode
 
 
 def difference(summary: dict, settings: PredictionSettings, speed: float) -> str | None:
-    """How a stored prediction's problem differs from the sweep's at ``speed`` (m/s), or None.
-    Its handover may have fallen back to the free landing (:mod:`walk3d.solve.landing`)."""
+    """How a stored prediction's problem differs from the sweep's at ``speed`` (m/s), or None:
+    its descriptors' speed and its settings' must both be ``speed``. Its handover may have
+    fallen back to the free landing (:mod:`walk3d.solve.landing`). Raises ValueError for a speed
+    that is not a finite number (a damaged summary)."""
     recorded = PredictionSettings(**recorded_settings(summary))
-    got = float(summary["descriptors"]["speed"])
-    if abs(got - speed) > 5e-7:
-        return f"is at {got:g} m/s, not {speed:g} m/s"
+    got = summary["descriptors"]["speed"]
+    if isinstance(got, bool) or not isinstance(got, (int, float)) or not math.isfinite(got):
+        raise ValueError(f"its speed {got!r} is not a finite number")  # damaged: solved again
+    for value in (got, recorded.gait.speed):  # the table's speed and the solved problem's
+        if abs(value - speed) > 5e-7:
+            return f"is at {value:g} m/s, not {speed:g} m/s"
     for group, name in PROBLEM_FIELDS:
         a = getattr(getattr(recorded, group), name)
         b = getattr(getattr(settings, group), name)
