@@ -112,7 +112,7 @@ def test_local_workers_print_no_dask_error_logs(capfd):
 
     from walk3d.campaign import runner
 
-    with runner._client(1, None, 1) as client:
+    with runner.dask_client(1, None, 1) as client:
         client.run(_log_in_workers, logging.ERROR, "probe-error-hidden")
         client.run(_log_in_workers, logging.CRITICAL, "probe-critical-shown")
         time.sleep(0.5)  # let the worker's stderr reach the file

@@ -43,7 +43,7 @@ from walk3d.problem.settings import PredictionSettings, available_cores
 if TYPE_CHECKING:
     from distributed import Client
 
-__all__ = ["CampaignReport", "run_campaign"]
+__all__ = ["CampaignReport", "check_scheduler", "dask_client", "run_campaign"]
 
 WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
@@ -123,7 +123,7 @@ def check_scheduler(address: str, timeout_s: float = SCHEDULER_TIMEOUT_S) -> Non
 
 
 @contextlib.contextmanager
-def _client(workers: int | None, scheduler: str | None, pending: int) -> Iterator[Client]:
+def dask_client(workers: int | None, scheduler: str | None, pending: int) -> Iterator[Client]:
     """A Dask client: to ``scheduler`` if given, else to a fresh local process cluster."""
     import dask
     from distributed import Client, LocalCluster
@@ -243,7 +243,7 @@ def run_campaign(
 
         if pending:
             try:
-                with _client(workers, scheduler, len(pending)) as client:
+                with dask_client(workers, scheduler, len(pending)) as client:
                     _run_pending(client, settings, pending, solver, out, records, advance)
             except BaseException:
                 if not scheduler:  # the local workers are gone: their temporaries are partial

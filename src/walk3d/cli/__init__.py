@@ -22,6 +22,7 @@ from walk3d.cli import (  # noqa: F401  (register the commands)
     campaign_command,
     commands,
     compare_command,
+    fit_command,
     report_command,
     sweep_command,
     track_command,

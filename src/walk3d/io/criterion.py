@@ -19,7 +19,7 @@ from pathlib import Path
 
 from walk3d.io.errors import DataFileError
 
-__all__ = ["read_criterion"]
+__all__ = ["read_criterion", "write_criterion"]
 
 
 def read_criterion(path: str | PathLike[str]) -> str:
@@ -42,3 +42,13 @@ def read_criterion(path: str | PathLike[str]) -> str:
             raise DataFileError(p, f"the weight of {name} must be a finite number, got {value!r}")
         parts.append(f"{name}={float(value):.17g}")
     return ",".join(parts)
+
+
+def write_criterion(path: str | PathLike[str], weights: dict[str, float], notes: list[str]) -> Path:
+    """Write ``weights`` as a ``[criterion]`` table that :func:`read_criterion` reads back, with
+    ``notes`` as comment lines above it; atomically."""
+    from walk3d.io.atomic import atomic_write_text
+
+    lines = [f"# {n}" for n in notes] + ["[criterion]"]
+    lines += [f"{name} = {float(w)!r}" for name, w in weights.items()]
+    return atomic_write_text(path, "\n".join(lines) + "\n")

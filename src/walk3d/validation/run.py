@@ -29,7 +29,7 @@ from typing import Any
 from walk3d.body.model import build_body
 from walk3d.io.atomic import atomic_folder
 from walk3d.io.checks import positive_numbers
-from walk3d.io.cycle_table import read_cycle_table
+from walk3d.io.cycle_table import CycleTable, read_cycle_table
 from walk3d.io.storage import read_storage
 from walk3d.io.tables import write_csv_table
 from walk3d.outputs import check_output_folder, write_errors
@@ -43,8 +43,8 @@ from walk3d.validation.figures import comparison_figures
 from walk3d.validation.measured import GaitFit, fit_measured_gait
 from walk3d.validation.reference import Reference, reference_from_table, trial_reference
 
-__all__ = ["VALIDATION_MARK", "Validation", "check_validation_folder", "sort_references",
-           "table2_rows", "validate"]  # fmt: skip
+__all__ = ["VALIDATION_MARK", "Validation", "check_validation_folder", "load_references",
+           "sort_references", "table2_rows", "validate"]  # fmt: skip
 
 TABLE3_COLUMNS = ("source", "criterion", "component", "value", "percent", "unit")
 
@@ -162,6 +162,36 @@ def _subject(pred: PredictedCycle) -> tuple[float, float, str, list[str]]:
     return mass, float(height), sex, notes
 
 
+def load_references(
+    references: Sequence[str | PathLike[str]],
+    mass: float,
+    *,
+    threshold: float = 20.0,
+    speed: float | None = None,
+    forward: str | None = None,
+) -> tuple[Reference, list[Trial], list[CycleTable], list[Path]]:
+    """``(reference, trials, tables, table_paths)`` of reference files (module doc): the first
+    cycle table's reference, else the trials' cycles; ``mass`` (kg) turns forces into N/kg.
+    ValueError when there is no reference file, or trials without a GRF file."""
+    table_paths, trial_files = sort_references(references)
+    trials: list[Trial] = [
+        load_c3d_trial(t["c3d"], threshold=threshold, speed=speed, forward=forward)
+        if "c3d" in t
+        else load_trial(t.get("ik"), t.get("grf"), t.get("id"), threshold=threshold, speed=speed)
+        for t in trial_files
+    ]
+    tables = [read_cycle_table(p) for p in table_paths]
+    if tables:
+        reference = reference_from_table(tables[0], mass=mass, name=table_paths[0].name)
+    elif trials:
+        if not any(t.descriptors for t in trials):
+            raise ValueError("trial references need a GRF file (events cut the cycles)")
+        reference = trial_reference(trials, mass)
+    else:
+        raise ValueError("no reference file")
+    return reference, trials, tables, table_paths
+
+
 def validate(
     predictions: Mapping[str, PredictedCycle],
     references: Sequence[str | PathLike[str]],
@@ -186,22 +216,8 @@ def validate(
         check_validation_folder(out_dir)
     first = next(iter(predictions.values()))
     mass, height, sex, notes = _subject(first)
-    table_paths, trial_files = sort_references(references)
-    trials: list[Trial] = [
-        load_c3d_trial(t["c3d"], threshold=threshold, speed=speed, forward=forward)
-        if "c3d" in t
-        else load_trial(t.get("ik"), t.get("grf"), t.get("id"), threshold=threshold, speed=speed)
-        for t in trial_files
-    ]
-    tables = [read_cycle_table(p) for p in table_paths]
-    if tables:
-        reference = reference_from_table(tables[0], mass=mass, name=table_paths[0].name)
-    elif trials:
-        if not any(t.descriptors for t in trials):
-            raise ValueError("trial references need a GRF file (events cut the cycles)")
-        reference = trial_reference(trials, mass)
-    else:
-        raise ValueError("no reference file")
+    loaded = load_references(references, mass, threshold=threshold, speed=speed, forward=forward)
+    reference, trials, tables, table_paths = loaded
     notes += list(reference.notes)
     comparisons = tuple(compare(p, reference, name) for name, p in predictions.items())
     cols2, rows2 = table2_rows(comparisons)

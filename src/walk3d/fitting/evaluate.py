@@ -1,0 +1,111 @@
+"""One evaluation of a fit: predict one trial with one criterion and score it.
+
+Runs inside a Dask worker (:mod:`walk3d.fitting.search`) and receives only plain data. It
+writes its record, ``evaluations/<key>.json``, atomically before returning, so a finished
+evaluation survives the client; a record already there is returned without solving.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+import traceback
+from pathlib import Path
+from typing import Literal
+
+from walk3d.fitting.trials import FitTrial
+from walk3d.io.atomic import atomic_write_text
+from walk3d.io.checks import read_json_object
+from walk3d.problem.settings import PredictionSettings
+from walk3d.validation.score import FAILED
+
+__all__ = ["MODES", "evaluate", "evaluation_key", "trial_descriptors", "trial_settings"]
+
+MODES = ("given", "predicted")
+"""How a trial's T and Td reach the prediction: the measured ones given, or predicted."""
+Mode = Literal["given", "predicted"]
+
+
+def evaluation_key(criterion: str, trial: str, mode: str) -> str:
+    """File stem of one evaluation: a digest of the canonical criterion, the trial, the mode."""
+    digest = hashlib.sha256(criterion.encode()).hexdigest()[:12]
+    return f"{digest}-{trial}-{mode}"
+
+
+def trial_descriptors(trial: FitTrial) -> tuple[float, float, float]:
+    """``(V, T, Td)`` of a trial (m/s, s, s): its table's, else read from its IK and GRF."""
+    if trial.ik is None or trial.grf is None:
+        return float(trial.speed), float(trial.period), float(trial.double_support)  # type: ignore[arg-type]
+    from walk3d.trials.descriptors import descriptors_from_trial
+
+    d = descriptors_from_trial(trial.ik, trial.grf, speed=trial.speed)
+    return d.speed, d.period, d.double_support
+
+
+def trial_settings(trial: FitTrial, criterion: str, mode: Mode) -> PredictionSettings:
+    """The prediction of ``trial`` under ``criterion`` (canonical), with the measured T and Td
+    (``given``) or both predicted; one thread, as the workers run side by side."""
+    from walk3d.problem.descriptors import auto_descriptors
+
+    speed, period, td = trial_descriptors(trial)
+    given = (period, td) if mode == "given" else (None, None)
+    t, d, free = auto_descriptors(speed, trial.height, *given)
+    return PredictionSettings(speed=speed, period=t, double_support=d, free=free,
+                              mass=trial.mass, height=trial.height, sex=trial.sex,
+                              criterion=criterion, threads=1)  # fmt: skip
+
+
+def _write(path: Path, record: dict) -> dict:
+    atomic_write_text(path, json.dumps(record, indent=1, sort_keys=True, allow_nan=False) + "\n")
+    return record
+
+
+def _finite(values: dict) -> dict:
+    return {k: (float(v) if v == v and abs(v) != float("inf") else None) for k, v in values.items()}
+
+
+def evaluate(
+    trial_data: dict,
+    criterion: str,
+    mode: Mode,
+    records_dir: str,
+    *,
+    seed: int = 0,
+    solver: str = "ipopt",
+    result_dir: str | None = None,
+) -> dict:
+    """Predict and score one trial (``trial_data``: a :class:`FitTrial` dump); its record.
+    ``result_dir``: also write the prediction's result folder there. Never raises for a failing
+    prediction: the record then has ``score`` :data:`FAILED` and the reason."""
+    trial = FitTrial(**trial_data)
+    path = Path(records_dir) / f"{evaluation_key(criterion, trial.name, mode)}.json"
+    if path.exists() and result_dir is None:
+        try:
+            return read_json_object(path)
+        except Exception:  # a damaged record is evaluated again
+            path.unlink(missing_ok=True)
+    record = {"criterion": criterion, "trial": trial.name, "mode": mode, "seed": seed}
+    t0 = time.perf_counter()
+    try:
+        from walk3d.pipeline import predict
+        from walk3d.validation.compare import compare
+        from walk3d.validation.run import load_references
+        from walk3d.validation.score import score
+
+        settings = trial_settings(trial, criterion, mode)
+        pred = predict(settings, seed, solver, out_dir=result_dir)
+        reference = load_references(trial.reference, trial.mass, speed=trial.reference_speed)[0]
+        result = score(
+            compare(pred, reference, trial.name), pred.summary, trial_descriptors(trial)[2]
+        )
+        record |= {"score": result.total, "parts": _finite(result.parts),
+                   "figures": _finite(result.figures), "failed": result.failed,
+                   "converged": bool(pred.summary.get("converged")),
+                   "iterations": pred.summary.get("iterations"),
+                   "descriptors": pred.summary.get("descriptors")}  # fmt: skip
+    except Exception as exc:
+        line = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
+        record |= {"score": FAILED, "failed": line, "traceback": traceback.format_exc()[-2000:]}
+    record["wall_time_s"] = time.perf_counter() - t0
+    return _write(path, record)
