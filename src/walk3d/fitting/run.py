@@ -148,7 +148,7 @@ def fit_criterion(
                         "candidate": i,
                         "score": s,
                         "criterion": c,
-                        **dict(zip([p.name for p in params], _weights(params, u))),
+                        **dict(zip([p.name for p in params], _weights(params, u), strict=True)),
                     }
                 )
         best = min(scores, key=scores.get)
