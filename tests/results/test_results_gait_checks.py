@@ -89,3 +89,23 @@ def test_realism_figures_read_peaks_ranges_and_width():
     assert f["pelvis_rotation_range_deg"] == pytest.approx(10.0, abs=0.05)
     assert f["pelvis_list_range_deg"] == pytest.approx(0.0, abs=1e-9)
     assert f["step_width_m"] == 0.1
+
+
+def test_roughness_counts_only_joints_that_move_5_degrees():
+    """As the shared yardstick: a rough wiggle of 3° is left out, the same wiggle at 8° counts
+    (its negative control)."""
+    from walk3d.results.gait_checks import realism_figures
+
+    a = _arrays(60.0, True)
+    t = a["time"]
+    rough = np.sin(2 * np.pi * t / T) + np.sin(2 * np.pi * 7 * t / T)  # half above harmonic 3
+    smooth = np.sin(2 * np.pi * t / T)
+    ori = np.zeros((len(t), 13, 4))
+    ori[:, :, 0] = 1.0
+    a["segment_orientation"] = ori
+    for wiggle_deg, counted in ((3.0, False), (8.0, True)):
+        a["joint_angle"] = np.column_stack([np.radians(40.0) * smooth,
+                                            np.radians(wiggle_deg / 2.5) * rough])  # fmt: skip
+        f = realism_figures(a, MASS, 0.1)
+        assert (f["roughness_worst_dof"] == "knee_flexion_r") is counted
+        assert (f["roughness_worst"] > 0.4) is counted

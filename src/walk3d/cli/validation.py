@@ -74,6 +74,16 @@ def validate(
     except (OSError, DataFileError, ValueError, KeyError) as exc:
         fail(" ".join(str(exc).split()))
     console.print(table2(v, f"Table 2: {pred_dir} vs {v.reference.name}"))
+    figs = v.score.figures if v.score is not None else {}
+    if "knee_loading_peak_deg" in figs:
+        console.print(
+            f"knee peak in loading (0-40 %): {figs['knee_loading_peak_deg']:.1f} deg, "
+            f"measured {figs['knee_loading_peak_measured_deg']:.1f} deg",
+            markup=False,
+        )
+    if v.score is not None:
+        console.print(f"score {v.score.total:.3f} (the yardstick's errors over their bars, "
+                      "1 = at the bar; score.json)", markup=False)  # fmt: skip
     if v.table3:
         console.print(table3(v.table3))
     if v.fit is not None:

@@ -74,6 +74,10 @@ def walking_checks(arrays: dict, period: float, double_support: float, mass: flo
     }
 
 
+ROUGH_MIN_RANGE_DEG = 5.0
+"""deg: the smallest range of a joint angle whose roughness counts."""
+
+
 def roughness(y: np.ndarray) -> float:
     """Share of a periodic signal's variance above its 3rd harmonic (``y`` over one cycle, the
     last sample repeating the first): 0 for a signal made of harmonics 1–3 alone."""
@@ -87,13 +91,17 @@ def realism_figures(arrays: dict, mass: float, step_width_m: float) -> dict:
     """Figures of human-likeness that need no measured reference (issue #23): peak vertical
     ground reaction under one foot and under both, in body weights; pelvis tilt, list and
     rotation ranges, deg; step width, m; and the largest share of a joint angle's variance
-    above the 3rd harmonic (:func:`roughness`) with its DoF."""
+    above the 3rd harmonic (:func:`roughness`) with its DoF, over the DoFs that move at least
+    :data:`ROUGH_MIN_RANGE_DEG` (as ``shared/tools/realism.py``: a wiggle of a few degrees is
+    not a rough motion)."""
     from walk3d.results.angles import pelvis_angles
 
     force = np.asarray(arrays["grf_force"])[:, :, 1] / (mass * G)
     pelvis = np.degrees(pelvis_angles(np.asarray(arrays["segment_orientation"])[:, 0, :]))
     angles = np.asarray(arrays["joint_angle"])
-    rough = {str(n): roughness(angles[:, i]) for i, n in enumerate(arrays["dof_names"])}
+    moving = np.degrees(np.ptp(angles, axis=0)) >= ROUGH_MIN_RANGE_DEG
+    rough = {str(n): roughness(angles[:, i]) for i, n in enumerate(arrays["dof_names"])
+             if moving[i]} or {"none": 0.0}  # fmt: skip
     worst = max(rough, key=rough.get)
     return {
         "peak_vertical_grf_bw": float(np.nanmax(force)),

@@ -102,8 +102,8 @@ MANIFEST = "manifest.json"
 VALIDATION_FOLDER = "validation"
 """``walk3d validate``'s default ``--out``, inside the result folder."""
 
-VALIDATION_FILES = ("table2.csv", "table3.csv", "measured_fit.csv", "grf.png", "moments.png",
-                    "angles.png")  # fmt: skip
+VALIDATION_FILES = ("table2.csv", "table3.csv", "measured_fit.csv", "score.json", "grf.png",
+                    "moments.png", "angles.png")  # fmt: skip
 """What :func:`walk3d.validation.run.validate` writes into its folder."""
 
 _NAME_FIELDS = ("segment_names", "dof_names", "joint_names")

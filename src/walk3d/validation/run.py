@@ -19,6 +19,7 @@ V, T, Td) or else from the cycle table's angles (with the prediction's V, T, Td)
 
 from __future__ import annotations
 
+import json
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -27,7 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from walk3d.body.model import build_body
-from walk3d.io.atomic import atomic_folder
+from walk3d.io.atomic import atomic_folder, atomic_write_text
 from walk3d.io.checks import positive_numbers
 from walk3d.io.cycle_table import CycleTable, read_cycle_table
 from walk3d.io.storage import read_storage
@@ -42,6 +43,7 @@ from walk3d.validation.criteria import criteria_from_reference, table3_rows
 from walk3d.validation.figures import comparison_figures
 from walk3d.validation.measured import GaitFit, fit_measured_gait
 from walk3d.validation.reference import Reference, reference_from_table, trial_reference
+from walk3d.validation.score import Score, score, score_json
 
 __all__ = ["VALIDATION_MARK", "Validation", "check_validation_folder", "load_references",
            "sort_references", "table2_rows", "validate"]  # fmt: skip
@@ -72,6 +74,8 @@ class Validation:
     fit_source: str | None = None
     notes: list[str] = field(default_factory=list)
     files: dict[str, Path] = field(default_factory=dict)
+    score: Score | None = None
+    """The first prediction's score (:mod:`walk3d.validation.score`; ``score.json``)."""
 
 
 def _trial_key(path: Path) -> str:
@@ -221,6 +225,9 @@ def validate(
     notes += list(reference.notes)
     comparisons = tuple(compare(p, reference, name) for name, p in predictions.items())
     cols2, rows2 = table2_rows(comparisons)
+    summary = first.summary if isinstance(first.summary, dict) else {}
+    timed = next((t for t in trials if t.descriptors is not None), None)
+    result = score(comparisons[0], summary, timed.descriptors.double_support if timed else None)
 
     rows3: list[dict] = []
     for name, pred in predictions.items():
@@ -228,7 +235,6 @@ def validate(
         if isinstance(objective, dict) and "C_tor" in objective and "C_en" in objective:
             rows3 += table3_rows(objective, f"prediction ({name})")
     body = build_body(mass, height, sex)
-    timed = next((t for t in trials if t.descriptors is not None), None)
     period = timed.descriptors.period if (timed and not tables) else cycle_timing(first)[0]
     crit, missing = criteria_from_reference(reference, body, period)
     if crit["C_tor"]["total"] > 0:
@@ -252,10 +258,13 @@ def validate(
                          "projection_change_deg": fit.projection_change_deg.get(k)}
                         for k, v in fit.rmse_deg.items()]  # fmt: skip
                 files["fit"] = write_csv_table(tmp / "measured_fit.csv", tuple(rows[0]), rows)
+            files["score"] = tmp / "score.json"
+            atomic_write_text(files["score"], json.dumps(score_json(result), indent=1) + "\n")
             if figures:
                 files.update(comparison_figures(comparisons, tmp))
         files = {k: out / p.name for k, p in files.items()}
-    return Validation(reference, comparisons, rows2, cols2, rows3, fit, fit_source, notes, files)
+    return Validation(reference, comparisons, rows2, cols2, rows3, fit, fit_source, notes, files,
+                      result)  # fmt: skip
 
 
 def _measured_fit(body, trials, tables, table_paths, pred, notes):

@@ -25,7 +25,7 @@ import numpy as np
 from walk3d.validation.compare import Comparison
 
 __all__ = ["CAP", "FAILED", "GUARDS", "KNEE_PEAK_SCALE", "MOMENT_R_BARS", "RMSE_BARS", "Score",
-           "knee_loading_peak", "score"]  # fmt: skip
+           "knee_loading_peak", "score", "score_json"]  # fmt: skip
 
 RMSE_BARS: dict[str, float] = {
     "angle:knee_flexion": 7.0,
@@ -128,3 +128,15 @@ def score(comparison: Comparison, summary: dict, measured_td: float | None = Non
         parts["double_support"] = _capped(abs(td - measured_td) / (TD_SCALE * measured_td))
     total = float(np.mean(list(parts.values()))) if parts else FAILED
     return Score(total, parts, figures)
+
+
+def score_json(result: Score) -> dict:
+    """``result`` as strict JSON (``score.json`` of a validation folder; NaN as null)."""
+
+    def clean(values: dict) -> dict:
+        return {k: float(v) if np.isfinite(v) else None for k, v in values.items()}
+
+    return {"score": result.total, "parts": clean(result.parts),
+            "figures": clean(result.figures), "failed": result.failed,
+            "bars": {"rmse": RMSE_BARS, "moment_r": MOMENT_R_BARS,
+                     "knee_loading_peak_deg": KNEE_PEAK_SCALE, "cap": CAP}}  # fmt: skip
