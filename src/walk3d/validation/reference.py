@@ -40,11 +40,12 @@ Cycles of both feet and all trials are pooled into mean ± SD (sample SD; NaN wi
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from walk3d.io.cycle_table import CycleTable
+from walk3d.io.storage import Storage
 from walk3d.trials.events import mean_sd, normalize_cycles
 from walk3d.trials.kinematics import detect_knee_sign
 from walk3d.trials.trial import Trial
@@ -218,8 +219,53 @@ def _series(trial: Trial, q: Quantity, side: str, knee_sign: float, mass: float)
     return st.time, sign * st.column(col) / mass
 
 
+MIN_IK_CYCLE = 0.95
+"""Shortest IK (or ID) taken as periodic when it holds no whole cycle, as a fraction of the
+gait period: the rest of the cycle is bridged by linear interpolation across the seam."""
+
+
+def periodic_storage(st: Storage, period: float) -> Storage:
+    """``st`` repeated one period earlier and later, outside its own time span."""
+    t = st.time
+    before, after = t - period < t[0], t + period > t[-1]
+    time = np.concatenate([t[before] - period, t, t[after] + period])
+    data = np.concatenate([st.data[before], st.data, st.data[after]])
+    return Storage(st.name, time, st.columns, data, st.in_degrees, st.header, st.path)
+
+
+def _periodic_trial(trial: Trial) -> tuple[Trial, str | None]:
+    """The trial with its IK and ID periodic (:func:`periodic_storage`) when they span at least
+    :data:`MIN_IK_CYCLE` of its period, and the note that says so (None: unchanged)."""
+    d = trial.descriptors
+    if d is None or trial.ik is None:
+        return trial, None
+    span = float(trial.ik.time[-1] - trial.ik.time[0])
+    if span < MIN_IK_CYCLE * d.period:
+        return trial, None
+    inv = trial.inverse_dynamics
+    inv = None if inv is None else periodic_storage(inv, d.period)
+    changed = replace(trial, ik=periodic_storage(trial.ik, d.period), inverse_dynamics=inv)
+    return changed, (f"no complete cycle in the IK of {trial.name} ({span:.3f} s, T = "
+                     f"{d.period:.4f} s): IK and ID repeated one period earlier and later, the "
+                     "gap bridged linearly")  # fmt: skip
+
+
 def trial_reference(trials: list[Trial], mass: float, knee_sign: float | str = "auto") -> Reference:
-    """Pooled mean ± SD cycles of the trials (module doc), in Table 2 units."""
+    """Pooled mean ± SD cycles of the trials (module doc), in Table 2 units. When no IK holds
+    a whole cycle between plate heel strikes, IKs (and IDs) that span nearly one are taken as
+    periodic (:func:`periodic_storage`; OpenSim's treadmill example: 1.20 s, T = 1.224 s)."""
+    ref = _trial_reference(trials, mass, knee_sign)
+    if ref.has("angle:knee_flexion") or not any(t.ik is not None for t in trials):
+        return ref
+    changed = [_periodic_trial(t) for t in trials]
+    notes = tuple(n for _, n in changed if n)
+    if not notes:
+        return ref
+    again = _trial_reference([t for t, _ in changed], mass, knee_sign)
+    return replace(again, notes=again.notes + notes)
+
+
+def _trial_reference(trials: list[Trial], mass: float, knee_sign: float | str) -> Reference:
     if knee_sign == "auto":
         knees = [t.ik.column(c) for t in trials if t.ik is not None and t.knee_sign is None
                  for c in ("knee_angle_r", "knee_angle_l") if t.ik.has_column(c)]  # fmt: skip

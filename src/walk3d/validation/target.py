@@ -34,7 +34,7 @@ cycle in such a trial).
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from functools import cache
 from os import PathLike
 from pathlib import Path
@@ -49,7 +49,13 @@ from walk3d.io.errors import DataFileError
 from walk3d.io.storage import Storage, read_storage
 from walk3d.trials.trial import Trial, load_trial
 from walk3d.validation.quantities import MIRRORED_ON_LEFT, QUANTITIES
-from walk3d.validation.reference import N_PERCENT, Reference, reference_from_table, trial_reference
+from walk3d.validation.reference import (
+    MIN_IK_CYCLE,
+    N_PERCENT,
+    Reference,
+    reference_from_table,
+    trial_reference,
+)
 from walk3d.validation.target_checks import (
     check_grf,
     check_ik,
@@ -61,9 +67,6 @@ from walk3d.validation.target_checks import (
 
 __all__ = ["MIN_IK_CYCLE", "TrackingTarget", "target_from_reference", "tracking_target"]
 
-MIN_IK_CYCLE = 0.95
-"""Shortest IK accepted, as a fraction of the gait period: the rest of the cycle is bridged by
-linear interpolation across the seam of the periodic repetition (module doc)."""
 PELVIS = ("pelvis_tilt", "pelvis_list", "pelvis_rotation")
 
 
@@ -280,15 +283,6 @@ def _from_table(path: Path, mass: float, given: dict, threshold: float) -> Track
                                  double_support=td, notes=tuple(notes))  # fmt: skip
 
 
-def _periodic(ik: Storage, period: float) -> Storage:
-    """The IK repeated one period earlier and later, outside its own time span."""
-    t = ik.time
-    before, after = t - period < t[0], t + period > t[-1]
-    time = np.concatenate([t[before] - period, t, t[after] + period])
-    data = np.concatenate([ik.data[before], ik.data, ik.data[after]])
-    return Storage(ik.name, time, ik.columns, data, ik.in_degrees, ik.header, ik.path)
-
-
 def _load(ik: Storage, grf: Storage, threshold: float, speed: float | None) -> Trial:
     """:func:`load_trial`, its ValueErrors as one DataFileError line naming the file at fault
     (speed and half-cycle lag: the IK; plates, events, period and Td: the GRF)."""
@@ -313,12 +307,8 @@ def _from_trial(ik_path: Path, grf_path: Path, mass: float, given: dict, thresho
     if span < MIN_IK_CYCLE * cycle:
         raise DataFileError(ik_path, f"the IK spans {span:.3f} s, shorter than one gait cycle "
                             f"(about {cycle:.3f} s)")  # fmt: skip
-    ref = trial_reference([trial], mass)
+    ref = trial_reference([trial], mass)  # periodic when the IK holds no whole cycle
     notes = [f"T from {d.period_method}", *d.notes, *ref.notes]
-    if not ref.has("angle:knee_flexion"):
-        ref = trial_reference([replace(trial, ik=_periodic(ik, d.period))], mass)
-        notes.append(f"no complete cycle in the IK ({span:.3f} s, T = {d.period:.4f} s): "
-                     "repeated one period earlier and later, the gap bridged linearly")  # fmt: skip
     if not ref.has("angle:knee_flexion"):
         where = f"IK {ik.time[0]:g}-{ik.time[-1]:g} s"
         raise DataFileError(ik_path, "holds no gait cycle from the force plates' heel strikes "
