@@ -78,11 +78,12 @@ def _resolved(raw: dict, folder: Path) -> dict:
     out = dict(raw)
     for key in ("ik", "grf"):
         if isinstance(out.get(key), str):
-            out[key] = folder / out[key]
+            out[key] = (folder / out[key]).resolve()
     if isinstance(out.get("reference"), str):
         out["reference"] = [out["reference"]]
     if isinstance(out.get("reference"), list):
-        out["reference"] = [folder / p if isinstance(p, str) else p for p in out["reference"]]
+        out["reference"] = [(folder / p).resolve() if isinstance(p, str) else p
+                            for p in out["reference"]]  # fmt: skip
     return out
 
 
