@@ -219,6 +219,9 @@ def predict(speed: float = 1.3806, *, period: float | None = None,
     if not pred.converged:
         warnings.warn(f"walk3d: the solve did not converge ({pred.summary.get('status')}); "
                       "this is not a valid prediction", RuntimeWarning, stacklevel=2)  # fmt: skip
+    elif not (pred.summary.get("gait_checks") or {}).get("looks_like_walking", True):
+        warnings.warn("walk3d: the converged gait does not look like walking (summary "
+                      "gait_checks)", RuntimeWarning, stacklevel=2)  # fmt: skip
     return pred
 
 

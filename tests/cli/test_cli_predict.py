@@ -237,3 +237,33 @@ def test_compile_hint_names_the_command_for_the_prediction():
     assert "`walk3d compile --sex female`" in default and "options" not in default
     assert "--criterion tor`" in compile_hint(api.settings(1.3, criterion="tor"))
     assert "this model's options" in compile_hint(api.settings(1.3, load_ramp=0.0))
+
+
+@pytest.mark.parametrize("summary, code", [
+    ({"converged": True, "gait_checks": {"looks_like_walking": True}}, 0),
+    ({"converged": True, "gait_checks": {"looks_like_walking": False}}, 4),
+    ({"converged": False, "gait_checks": {"looks_like_walking": False}}, 1),
+])  # fmt: skip
+def test_exit_code_says_whether_the_written_gait_walks(summary, code):
+    from walk3d.cli.common import exit_code
+
+    assert exit_code(summary) == code
+
+
+@pytest.mark.solve
+def test_a_converged_gait_that_does_not_walk_exits_4_with_one_line(tmp_path):
+    """0.6 m/s from the atlas: converged, with no dip between the Fy humps (the check reads a
+    flat force as one hump): written and labelled, one line on stderr, exit 4."""
+    out = tmp_path / "o"
+    cmd = [sys.executable, "-m", "walk3d.cli", "predict", "--speed", "0.6", "--threads", "1",
+           "--no-compile-later", "--out", str(out)]  # fmt: skip
+    env = os.environ | {"OPENBLAS_NUM_THREADS": "1", "COLUMNS": "200"}
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=env)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["converged"], r.stderr
+    walks = summary["gait_checks"]["looks_like_walking"]
+    assert r.returncode == (0 if walks else 4), r.stderr
+    if not walks:
+        assert r.stderr.strip().splitlines() == [
+            "walk3d: the converged gait does not look like walking; written and labelled"
+        ]

@@ -14,6 +14,7 @@ from rich.table import Table
 from walk3d.cli import changes as what_if
 from walk3d.cli.changes import AddedMass, EqualSteps, FullCycle, LegLength, Range, Strength
 from walk3d.cli.common import (
+    EXIT_NOT_WALKING,
     EXIT_WRITE,
     SOLVER,
     CalibrationFile,
@@ -40,6 +41,8 @@ from walk3d.cli.common import (
     TrialGrf,
     app,
     console,
+    err_console,
+    exit_code,
     fail,
     gait_fields,
     paper_case,
@@ -287,8 +290,12 @@ def predict(
         f"{'yes' if g['two_fy_humps'] else 'no'})",
     )
     console.print(t)
-    if not s["converged"]:
-        raise typer.Exit(1)
+    code = exit_code(s)
+    if code == EXIT_NOT_WALKING:
+        line = "walk3d: the converged gait does not look like walking; written and labelled"
+        err_console.print(line, markup=False)
+    if code:
+        raise typer.Exit(code)
 
 
 def descriptor_text(d: dict) -> str:

@@ -202,6 +202,19 @@ CompileLater = Annotated[
 
 EXIT_WRITE = 3
 """Exit code of a command whose output could not be written (disk full, permissions)."""
+EXIT_NOT_WALKING = 4
+"""Exit code of a prediction that converged on a gait that does not look like walking (its
+result is written and labelled): a script must not take it for a walk."""
+
+
+def exit_code(summary: dict) -> int:
+    """``walk3d predict``'s exit code for a written result: 1 when the solve did not converge,
+    :data:`EXIT_NOT_WALKING` when it converged on a gait that does not look like walking, 0."""
+    if not summary.get("converged"):
+        return 1
+    if not (summary.get("gait_checks") or {}).get("looks_like_walking", True):
+        return EXIT_NOT_WALKING
+    return 0
 
 
 def fail(message: str, code: int = 2) -> None:
