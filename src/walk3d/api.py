@@ -200,7 +200,8 @@ def predict(speed: float = 1.3806, *, period: float | None = None,
     solver's stages to stderr; a callable receives them.
 
     A solve that does not converge still returns, with ``converged`` False and a
-    :class:`RuntimeWarning`. Raises ValueError for bad input, an ``out`` that is an existing
+    :class:`RuntimeWarning`, as does a converged gait that does not look like walking. Raises
+    ValueError for bad input, an ``out`` that is an existing
     file or a folder of other files included, before any solve.
     """
     from walk3d.pipeline import check_result_folder
