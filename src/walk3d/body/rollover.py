@@ -26,7 +26,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from walk3d import mathops as m
 
@@ -55,6 +54,8 @@ class RollOver:
             raise ValueError("roll-over needs at least 3 samples of shape (n,) and (n, 3)")
         if np.any(np.diff(s) <= 0):
             raise ValueError("roll-over knots must be strictly increasing")
+        from scipy.interpolate import CubicSpline  # 0.3 s to import: only when a body is built
+
         sp = CubicSpline(s, xyz, bc_type="natural")
         c = sp.c  # (4, n-1, 3), highest power first, local in (s - s_i)
         s0 = s[0]
