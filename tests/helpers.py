@@ -78,6 +78,10 @@ def replace_result_file(folder: Path, name: str, data: bytes) -> Path:
     (folder / name).write_bytes(data)
     manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
     manifest["files"][name] = len(data)
+    if name in manifest.get("sha256", {}):
+        import hashlib
+
+        manifest["sha256"][name] = hashlib.sha256(data).hexdigest()
     (folder / "manifest.json").write_text(json.dumps(manifest), encoding="utf-8")
     return folder / name
 

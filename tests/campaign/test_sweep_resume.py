@@ -3,6 +3,7 @@ another speed's or problem's prediction is refused, a damaged one is solved agai
 sweep.json is one line and exit code 2. The solves are scripted (no optimization)."""
 
 import csv
+import hashlib
 import json
 import re
 import shutil
@@ -44,9 +45,13 @@ def write_fake(pred, folder):
     folder.mkdir(parents=True, exist_ok=True)
     for name in RESULT_FILES:
         (folder / name).write_text("x\n")
+    d = pred.summary.get("descriptors") if isinstance(pred.summary, dict) else None
+    speed = str((d or {}).get("speed"))[:8]
+    (folder / "result.npz").write_text(f"arrays at {speed:>8s}\n")  # the same size at any speed
     (folder / "summary.json").write_text(json.dumps(pred.summary))
     files = {p.name: p.stat().st_size for p in folder.iterdir() if p.name != MANIFEST}
-    (folder / MANIFEST).write_text(json.dumps({"files": files}))
+    digest = hashlib.sha256((folder / "result.npz").read_bytes()).hexdigest()
+    (folder / MANIFEST).write_text(json.dumps({"files": files, "sha256": {"result.npz": digest}}))
     return folder
 
 
@@ -129,7 +134,9 @@ def test_a_speed_folder_of_the_same_problem_is_resumed(tmp_path, solves, stored)
 @pytest.mark.parametrize(
     "damage",
     [lambda f: f.write_text(f.read_text()[:40]),  # truncated: the manifest's size is wrong
-     lambda f: (f.parent / MANIFEST).unlink()],
+     lambda f: (f.parent / MANIFEST).unlink(),
+     lambda f: shutil.copyfile(f.parent.parent / "v_1.400" / "result.npz",  # swapped arrays
+                               f.parent / "result.npz")],
 )  # fmt: skip
 def test_a_damaged_speed_folder_is_solved_again_with_a_warning(tmp_path, solves, damage):
     out = tmp_path / "s"

@@ -1,12 +1,14 @@
 """Result folders: PredictedCycle save/load round trip, OpenSim files and the summary figure."""
 
 import json
+import shutil
 import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
 
 from walk3d.body.model import JOINT_NAMES, SEGMENT_NAMES, build_body
+from walk3d.io.checks import file_digest
 from walk3d.io.errors import DataFileError
 from walk3d.io.external_loads import extract_foot_loads, grf_column_names
 from walk3d.io.storage import read_storage
@@ -272,6 +274,8 @@ def test_load_errors(tmp_path, saved):
         write(bad / name)
         manifest = json.loads((bad / "manifest.json").read_text())
         manifest["files"][name] = (bad / name).stat().st_size
+        if name in manifest["sha256"]:  # only the content is wrong, not the folder
+            manifest["sha256"][name] = file_digest(bad / name)
         (bad / "manifest.json").write_text(json.dumps(manifest))
 
     rewrite("summary.json", lambda p: p.write_text("{not json"))
@@ -321,3 +325,20 @@ def test_warm_up_leaves_the_summary_figure_unchanged(tmp_path):
     other = summary_figure(make_prediction(seed=2), tmp_path / "c.png").read_bytes()
     assert before == after and other != before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png", "b.png", "c.png"]
+
+
+def test_a_result_npz_swapped_between_folders_is_refused(saved, tmp_path):
+    """Two results of the same shape have result.npz files of the same size: only the
+    manifest's SHA-256 tells them apart. The untouched folder is the negative control."""
+    from walk3d.results.prediction import check_complete
+
+    a, b = tmp_path / "a", tmp_path / "b"
+    save_prediction(make_prediction(1), a)
+    save_prediction(make_prediction(2), b)
+    assert (a / "result.npz").stat().st_size == (b / "result.npz").stat().st_size
+    check_complete(a)
+    shutil.copyfile(b / "result.npz", a / "result.npz")
+    with pytest.raises(DataFileError, match="SHA-256"):
+        check_complete(a)
+    with pytest.raises(DataFileError, match="SHA-256"):
+        load_result(a)

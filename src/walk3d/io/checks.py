@@ -179,3 +179,10 @@ def positive_numbers(**values: float | None) -> None:
         real = isinstance(value, numbers.Real) and not isinstance(value, bool)
         if value is not None and not (real and 0 < value < math.inf):
             raise ValueError(f"{name} must be a finite positive number, got {value!r:.40}")
+
+
+def file_digest(path: str | PathLike[str]) -> str:
+    """SHA-256 of a file's bytes, hex."""
+    import hashlib
+
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
