@@ -107,5 +107,9 @@ def evaluate(
     except Exception as exc:
         line = " ".join(f"{type(exc).__name__}: {exc}".split())[:300]
         record |= {"score": FAILED, "failed": line, "traceback": traceback.format_exc()[-2000:]}
+    finally:
+        from walk3d.solve.solver import forget_solvers
+
+        forget_solvers()  # each criterion builds its own solver, hundreds of MB
     record["wall_time_s"] = time.perf_counter() - t0
     return _write(path, record)
