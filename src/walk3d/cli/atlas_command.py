@@ -11,10 +11,10 @@ from walk3d.model.terms import DEFAULT_PRESET
 
 atlas_app = typer.Typer(no_args_is_help=True, help="The atlas of walk3d's own solutions that "
                         "predictions start from (docs/starts.md).")  # fmt: skip
-app.add_typer(atlas_app, name="atlas")
+app.add_typer(atlas_app, name="atlas", short_help="The atlas of starts: build it, list its files.")
 
 
-@atlas_app.command("build")
+@atlas_app.command("build", short_help="Sweep the reference subject and write atlas files.")
 def build(
     work: Annotated[str, typer.Option("--work", help="Folder of the sweeps (created or resumed).")],
     sex: Annotated[str, typer.Option("--sex", help="male, female or both.")] = "both",
@@ -69,7 +69,7 @@ def build(
                 console.print(f"{path}: {n} of {of} speeds walk", markup=False)
 
 
-@atlas_app.command("show")
+@atlas_app.command("show", short_help="List the package's atlas files.")
 def show() -> None:
     """List the package's atlas files: sex, preset, speeds, solve revision, the entries with a
     handover optimum (and with a primal-dual start) for the one-solve default, those with optima
