@@ -22,8 +22,8 @@ from pathlib import Path
 from walk3d.io.atomic import TMP_PREFIX, fsync_dir, temporary_sibling
 from walk3d.io.errors import OutputWriteError
 
-__all__ = ["check_output_file", "check_output_folder", "foreign_files", "replace_files",
-           "write_errors"]  # fmt: skip
+__all__ = ["check_folder_of_folders", "check_output_file", "check_output_folder", "foreign_files",
+           "replace_files", "write_errors"]  # fmt: skip
 
 _ATOMIC_TEMPORARY = re.compile(r"^\..+\.[0-9a-f]{12}\.\w+$")
 """The name of :func:`~walk3d.io.atomic.atomic_write`'s temporary file (``.name.<hex>.tmp``)."""
@@ -94,6 +94,32 @@ def check_output_folder(
                              f"write ({', '.join(foreign[:5])}{more}); move them out or use a "
                              "new folder")  # fmt: skip
     _writable_base(out, option, shown)
+    return out
+
+
+def check_folder_of_folders(path: str | PathLike[str], option: str, replaces: str) -> Path:
+    """Refuse, before any work starts, a folder of output folders (``walk3d atlas build
+    --work``: one sweep folder per sex and preset) that is an existing file or cannot be
+    written, or holds an entry that is neither an empty folder nor a folder with ``replaces``
+    (``sweep.json``): a prediction's files, a sweep's own, anyone's. ValueError with one line
+    naming ``option``; returns the folder."""
+    out = check_output_folder(path, option)
+    if not out.is_dir():
+        return out
+    foreign = []
+    for entry in sorted(os.scandir(out), key=lambda e: e.name):
+        if entry.name.startswith(TMP_PREFIX) or _ATOMIC_TEMPORARY.match(entry.name):
+            continue  # an interrupted walk3d's
+        is_dir = entry.is_dir(follow_symlinks=False)
+        if is_dir and (os.path.isfile(os.path.join(entry.path, replaces))
+                       or not os.listdir(entry.path)):  # fmt: skip
+            continue
+        foreign.append(entry.name + "/" * is_dir)
+    if foreign:
+        more = f" and {len(foreign) - 5} more" if len(foreign) > 5 else ""
+        raise ValueError(f"{option} {os.fspath(path)} holds files walk3d did not write "
+                         f"({', '.join(foreign[:5])}{more}), not only folders with {replaces}; "
+                         "use a new folder")  # fmt: skip
     return out
 
 

@@ -34,7 +34,7 @@ def build(
     each sex and preset, and write one atlas file each from the speeds that walk. Rerunning
     resumes the sweeps. Exit code 0 when every file was written, 2 for bad input, 3 if a file
     could not be written."""
-    from walk3d.campaign.atlas import build_atlas
+    from walk3d.campaign.atlas import build_atlas, check_atlas_paths
     from walk3d.campaign.sweep import SweepMismatch, parse_speeds
     from walk3d.model import terms
 
@@ -46,6 +46,7 @@ def build(
         fail(f"--criterion {criterion}: expected named presets ({', '.join(terms.PRESETS)})")
     try:
         parse_speeds(speeds)
+        check_atlas_paths(work, out, [f"{sx}-{p}" for sx in sexes for p in presets])
     except ValueError as exc:
         fail(str(exc))
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
