@@ -22,11 +22,43 @@ from pathlib import Path
 from walk3d.io.atomic import TMP_PREFIX, fsync_dir, temporary_sibling
 from walk3d.io.errors import OutputWriteError
 
-__all__ = ["check_output_file", "check_output_folder", "foreign_files", "replace_files",
-           "write_errors"]  # fmt: skip
+__all__ = ["NAME_MAX_BYTES", "TEMPORARY_BYTES", "check_folder_of_folders", "check_output_file",
+           "check_output_folder", "foreign_files", "replace_files", "write_errors"]  # fmt: skip
 
 _ATOMIC_TEMPORARY = re.compile(r"^\..+\.[0-9a-f]{12}\.\w+$")
 """The name of :func:`~walk3d.io.atomic.atomic_write`'s temporary file (``.name.<hex>.tmp``)."""
+
+
+NAME_MAX_BYTES = 255
+"""Longest file or folder name, bytes, that common file systems hold (ext4, XFS, APFS)."""
+TEMPORARY_BYTES = 22
+"""Bytes that walk3d's temporary siblings add to an output's name (``.tmp_old_<name>_<12 hex>``,
+:mod:`walk3d.io.atomic`): the output's own name may have at most 255 - 22."""
+
+
+def _check_name(path: str | PathLike[str], option: str) -> None:
+    """Raise ValueError unless ``path`` is valid UTF-8 without NUL (walk3d writes its paths into
+    UTF-8 files and messages) and each name fits a file system: at most
+    :data:`NAME_MAX_BYTES`, the last one :data:`TEMPORARY_BYTES` less."""
+    raw = os.fsencode(path)  # the bytes given, a shell's \xff included
+    shown = raw.decode("utf-8", "backslashreplace")
+    if b"\0" in raw:
+        raise ValueError(f"{option} {shown!r} holds a NUL byte")
+    try:
+        raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{option} {shown} is not valid UTF-8 (byte 0x{raw[exc.start]:02x}); "
+                         "use a UTF-8 name") from None  # fmt: skip
+    names = [n for n in raw.split(b"/") if n]
+    for k, name in enumerate(names):
+        limit = NAME_MAX_BYTES - (TEMPORARY_BYTES if k == len(names) - 1 else 0)
+        if len(name) > limit:
+            start = name[:24].decode("utf-8", "ignore")
+            raise ValueError(
+                f"{option}: the name {start}... is {len(name)} bytes long, at most "
+                f"{limit} (file systems hold {NAME_MAX_BYTES}"
+                f"{', less walk3d temporary names' if k == len(names) - 1 else ''})"
+            )
 
 
 def _writable_base(out: Path, option: str, path: str) -> None:
@@ -77,7 +109,9 @@ def check_output_folder(
     name), an existing non-empty folder must hold that file, so that only an earlier result is
     ever replaced, never a folder of other files; with ``own`` too (the paths walk3d writes
     there, or a function of the folder giving them), it must hold nothing else
-    (:func:`foreign_files`). Returns the folder."""
+    (:func:`foreign_files`). A path that is not UTF-8 or has a name too long for a file system
+    is refused too. Returns the folder."""
+    _check_name(path, option)
     out = Path(path)
     shown = os.fspath(path)
     if out.exists() and not out.is_dir():
@@ -97,11 +131,39 @@ def check_output_folder(
     return out
 
 
+def check_folder_of_folders(path: str | PathLike[str], option: str, replaces: str) -> Path:
+    """Refuse, before any work starts, a folder of output folders (``walk3d atlas build
+    --work``: one sweep folder per sex and preset) that is an existing file or cannot be
+    written, or holds an entry that is neither an empty folder nor a folder with ``replaces``
+    (``sweep.json``): a prediction's files, a sweep's own, anyone's. ValueError with one line
+    naming ``option``; returns the folder."""
+    out = check_output_folder(path, option)
+    if not out.is_dir():
+        return out
+    foreign = []
+    for entry in sorted(os.scandir(out), key=lambda e: e.name):
+        if entry.name.startswith(TMP_PREFIX) or _ATOMIC_TEMPORARY.match(entry.name):
+            continue  # an interrupted walk3d's
+        is_dir = entry.is_dir(follow_symlinks=False)
+        if is_dir and (os.path.isfile(os.path.join(entry.path, replaces))
+                       or not os.listdir(entry.path)):  # fmt: skip
+            continue
+        foreign.append(entry.name + "/" * is_dir)
+    if foreign:
+        more = f" and {len(foreign) - 5} more" if len(foreign) > 5 else ""
+        raise ValueError(f"{option} {os.fspath(path)} holds files walk3d did not write "
+                         f"({', '.join(foreign[:5])}{more}), not only folders with {replaces}; "
+                         "use a new folder")  # fmt: skip
+    return out
+
+
 def check_output_file(
     path: str | PathLike[str], option: str = "--out", suffix: str | None = None
 ) -> Path:
     """Refuse, before any work starts, an output file that is a folder, lacks ``suffix``
-    (``".mp4"``...) or cannot be created: ValueError with one line. Returns the file's path."""
+    (``".mp4"``...), cannot be created, is not UTF-8 or has a name too long for a file system:
+    ValueError with one line. Returns the file's path."""
+    _check_name(path, option)
     out = Path(path)
     shown = os.fspath(path)
     if suffix is not None and out.suffix.lower() != suffix:

@@ -34,7 +34,9 @@ def test_speed_ranges_include_their_stop():
      ("1:2", "expected start:stop:step"), ("", "no speed"), ("1,1", "1 m/s is given twice"),
      ("1.0,1.2,1.0", "given twice"), ("1.2,1.2004", "closer than 0.001 m/s"),
      ("0.1:4:1e-10", "3.9e+10 speeds, at most 41"), ("1:3:0.048", "42 speeds, at most 41"),
-     ("0.5:4:1e-300", "speeds, at most 41"), (",".join(["1.0"] * 50), "50 speeds")],
+     ("0.5:4:1e-300", "speeds, at most 41"), (",".join(["1.0"] * 50), "50 speeds"),
+     ("1.2,,1.3", "an empty item"), ("1.2,1.3,", "an empty item"), (",1.2", "an empty item"),
+     ("1.2, ,1.3", "an empty item"), (",", "an empty item"), ("  ", "no speed")],
 )  # fmt: skip
 def test_bad_speed_ranges_are_refused(text, word):
     with pytest.raises(ValueError, match="--speeds") as info:
@@ -42,7 +44,9 @@ def test_bad_speed_ranges_are_refused(text, word):
     assert word in str(info.value)
 
 
-@pytest.mark.parametrize("text", ["1.8:0.8:0.1", "0:1:0.5", "1,nan", "x", "0.1:4:1e-10", "1.0,1.0"])
+@pytest.mark.parametrize(
+    "text", ["1.8:0.8:0.1", "0:1:0.5", "1,nan", "x", "0.1:4:1e-10", "1.0,1.0", "1.2,,1.3"]
+)
 def test_cli_refuses_a_bad_range_with_one_line_and_exit_2(tmp_path, text):
     cmd = [sys.executable, "-m", "walk3d.cli", "sweep", "--speeds", text, "--out",
            str(tmp_path / "s")]  # fmt: skip
@@ -57,6 +61,7 @@ def test_the_largest_ranges_and_the_nearest_speeds_allowed_pass():
     assert parse_speeds("1:3:0.05").size == 41 and parse_speeds("1:3:0.0499").size == 41
     assert parse_speeds("1.2,1.201").tolist() == [1.2, 1.201]
     assert parse_speeds(",".join(f"{v / 10:.1f}" for v in range(6, 21))).size == 15
+    assert parse_speeds(" 1.2 , 1.3 ").tolist() == [1.2, 1.3]  # spaces around items
 
 
 def test_order_starts_near_the_pivot_and_each_speed_follows_a_solved_neighbour():

@@ -5,11 +5,13 @@ import subprocess
 import sys
 
 import pytest
+from helpers import cli, one_line_error
 
 BAD = [
     (["--sex", "alien"], "--sex alien"),
     (["--criterion", "tor=1,accel=1"], "named presets"),
     (["--criterion", ""], "named presets"),
+    (["--criterion", "bogus"], "--criterion bogus: expected named presets"),
     (["--speeds", "2:1:0.1"], "empty or reversed"),
     (["--speeds", "0.1:4:1e-10"], "speeds, at most 41"),
 ]
@@ -70,3 +72,84 @@ def test_atlas_build_prints_a_damaged_speed_warning_as_one_line(tmp_path, monkey
         f"walk3d: warning: {tmp_path}/v_1.200 cannot be read (summary.json: invalid JSON): "
         "solving 1.2 m/s again"
     ]
+
+
+@pytest.fixture
+def no_build(monkeypatch):
+    """Fail the test if the atlas build (its sweeps) starts."""
+    import walk3d.campaign.atlas as atlas
+
+    def build(*args, **kwargs):
+        pytest.fail("the atlas build started")
+
+    monkeypatch.setattr(atlas, "build_atlas", build)
+
+
+def _prediction_folder(folder):
+    folder.mkdir()
+    for name in ("summary.json", "result.npz", "motion.mot"):
+        (folder / name).write_text("{}")
+    return folder
+
+
+@pytest.mark.parametrize(
+    ("where", "words"),
+    [("work-file", "--work {work} is an existing file"),
+     ("work-prediction", "--work {work} holds files walk3d did not write (motion.mot, result.npz"),
+     ("work-stray", "holds files walk3d did not write (notes/)"),
+     ("out-file", "--out {out} is an existing file"),
+     ("out-atlas-folder", "--out {out}/male-natural.json is a folder")],
+)  # fmt: skip
+def test_atlas_build_refuses_its_folders_before_any_sweep(capsys, tmp_path, no_build, where,
+                                                          words):  # fmt: skip
+    """An --out that is a file failed after the sweeps (exit 3); a --work that is a prediction
+    folder got the sweeps written into it."""
+    work, out = tmp_path / "work", tmp_path / "atlas"
+    if where == "work-file":
+        work.write_text("x")
+    elif where == "work-prediction":
+        _prediction_folder(work)
+    elif where == "work-stray":
+        (work / "notes").mkdir(parents=True)
+        (work / "notes" / "a.txt").write_text("mine")
+    elif where == "out-file":
+        out.write_text("x")
+    else:
+        (out / "male-natural.json").mkdir(parents=True)
+    r = cli(capsys, "atlas", "build", "--work", work, "--out", out, "--sex", "male")
+    one_line_error(r, words.format(work=work, out=out))
+
+
+def test_atlas_build_accepts_its_own_work_and_atlas_folders(capsys, tmp_path, monkeypatch):
+    """Negative control: a resumed --work (a sweep folder, an empty one) and an --out holding
+    other atlas files reach the build."""
+    import walk3d.campaign.atlas as atlas
+
+    work, out = tmp_path / "work", tmp_path / "atlas"
+    (work / "male-natural").mkdir(parents=True)
+    (work / "male-natural" / "sweep.json").write_text("{}")
+    (work / "female-natural").mkdir()
+    out.mkdir()
+    (out / "male-tor.json").write_text("{}")
+    built = []
+
+    def build(sex, preset, *args):
+        built.append(sex)
+        return out / f"{sex}-{preset}.json", 1, 1
+
+    monkeypatch.setattr(atlas, "build_atlas", build)
+    code, stdout, err = cli(capsys, "atlas", "build", "--work", work, "--out", out)
+    assert code in (0, None) and built == ["male", "female"], err
+
+
+def test_the_api_refuses_the_folders_before_its_sweep(tmp_path, monkeypatch):
+    import walk3d.campaign.atlas as atlas
+    import walk3d.campaign.sweep as sweep
+
+    monkeypatch.setattr(sweep, "run_sweep", lambda *a, **k: pytest.fail("the sweep started"))
+    work = _prediction_folder(tmp_path / "p")
+    with pytest.raises(ValueError, match="--work .* holds files walk3d did not write"):
+        atlas.build_atlas("male", "natural", work, "1.2,1.3")
+    (tmp_path / "a").write_text("x")
+    with pytest.raises(ValueError, match="--out .* is an existing file"):
+        atlas.build_atlas("male", "natural", tmp_path / "w", "1.2,1.3", tmp_path / "a")

@@ -1,5 +1,6 @@
 """Standard output that cannot be written: /dev/full is one line and exit code 3, a closed pipe
-(``walk3d body | head -1``) a quiet exit with code 141; never a traceback."""
+(``walk3d body | head -1``) a quiet exit with code 141; never a traceback. Standard error that
+cannot be written leaves the exit code as it is (2 for bad input)."""
 
 from __future__ import annotations
 
@@ -50,4 +51,33 @@ def test_a_writable_output_is_exit_0(tmp_path):
     with open(tmp_path / "out.json", "w") as f:
         r = _walk3d("body", "--json", stdout=f)
     assert r.returncode == 0 and r.stderr == ""
+    assert (tmp_path / "out.json").read_text().startswith("{")
+
+
+def _walk3d_to_full_stderr(*args: str, stdout=subprocess.DEVNULL) -> int:
+    with open("/dev/full", "w") as full:
+        return subprocess.run([sys.executable, "-m", "walk3d.cli", *args], stdout=stdout,
+                              stderr=full, timeout=120, env=_env()).returncode  # fmt: skip
+
+
+@needs_dev_full
+@pytest.mark.parametrize(
+    "args", [("body", "--mass", "nan"), ("body", "--bogus"), ("atlas",), ("body", "--sex", "x")]
+)
+def test_bad_input_exits_2_when_stderr_cannot_be_written(args):
+    """The error line failed to write and the traceback of that failure made it exit 1."""
+    assert _walk3d_to_full_stderr(*args) == 2
+
+
+@needs_dev_full
+def test_a_full_stdout_is_exit_3_when_stderr_is_full_too():
+    with open("/dev/full", "w") as full:
+        assert _walk3d_to_full_stderr("body", "--json", stdout=full) == 3
+
+
+@needs_dev_full
+def test_good_input_exits_0_with_stderr_full(tmp_path):
+    """Negative control: nothing to say on stderr, the output is written."""
+    with open(tmp_path / "out.json", "w") as f:
+        assert _walk3d_to_full_stderr("body", "--json", stdout=f) == 0
     assert (tmp_path / "out.json").read_text().startswith("{")

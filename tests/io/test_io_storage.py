@@ -183,3 +183,29 @@ def test_non_finite_values_are_refused_in_the_columns_used(tmp_path: Path) -> No
     path.write_text("\n".join(text) + "\n")
     with pytest.raises(DataFileError, match="time holds nan in data row 4"):
         read_storage(path)
+
+
+@pytest.mark.parametrize(
+    ("time", "words"),
+    [([1.5, 1.5, 1.5], "time is not increasing: 1.5 then 1.5 (rows 1 and 2)"),
+     ([0.0, 0.0, 0.0], "time is not increasing: 0 then 0 (rows 1 and 2)"),
+     ([0.0, 0.01, 0.01, 0.02], "0.01 then 0.01 (rows 2 and 3)"),
+     ([0.0, 0.02, 0.01], "0.02 then 0.01 (rows 2 and 3)"),
+     ([0.3], "1 data rows: a motion needs 2 or more"),
+     ([], "0 data rows")],
+)  # fmt: skip
+def test_a_time_that_does_not_increase_is_refused_naming_the_file(tmp_path, time, words):
+    """A constant or zero time column divided by zero in validate, calibrate and predict
+    --from-trial (sampling rates, periods); now one DataFileError line at reading."""
+    path = tmp_path / "ik.mot"
+    write_storage(path, time, ("knee",), np.zeros(len(time)), name="ik")
+    with pytest.raises(DataFileError) as info:
+        read_storage(path)
+    assert str(info.value).startswith("ik.mot") and words in str(info.value), info.value
+
+
+def test_two_increasing_samples_are_the_fewest_read(tmp_path):
+    """Negative control: the smallest valid time column, unevenly sampled."""
+    path = tmp_path / "ik.mot"
+    write_storage(path, [0.0, 0.001], ("knee",), [1.0, 2.0], name="ik")
+    assert read_storage(path).time.tolist() == [0.0, 0.001]

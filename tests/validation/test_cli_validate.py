@@ -65,6 +65,21 @@ def test_truncated_trial_storage(pred_dir, tmp_path, falisse):
     _one_line_error(_run("validate", pred_dir, "--reference", bad), "ik.mot", "rows")
 
 
+@pytest.mark.parametrize("value", ["0", "1.5"])
+def test_a_trial_storage_whose_time_is_constant_is_refused(pred_dir, tmp_path, falisse, value):
+    """It divided by zero (the sampling rate); the control is
+    test_validate_writes_tables_and_figures, the same files with their times."""
+    lines = (falisse / "gait_1_ik.mot").read_text().splitlines()
+    head = next(i for i, line in enumerate(lines) if line.strip().lower() == "endheader") + 2
+    lines[head:] = [value + "\t" + line.split(maxsplit=1)[1] for line in lines[head:]]
+    bad = tmp_path / "ik.mot"
+    bad.write_text("\n".join(lines) + "\n")
+    r = _run("validate", pred_dir, "--reference", bad, "--reference", falisse / "gait_1_grf.mot",
+             "--out", tmp_path / "v")  # fmt: skip
+    _one_line_error(r, "ik.mot", "time is not increasing")
+    assert not (tmp_path / "v").exists()
+
+
 def test_unknown_reference_and_missing_inputs(pred_dir, tmp_path):
     odd = tmp_path / "odd.sto"
     odd.write_text("x\nversion=1\nendheader\ntime\tfoo\n0\t1\n0.01\t2\n")

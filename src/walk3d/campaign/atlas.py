@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import datetime as dt
 import json
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import replace
 from pathlib import Path
 
@@ -36,7 +36,8 @@ from walk3d.solve import SOLVE_REVISION
 from walk3d.solve.atlas import ATLAS_DIR, FORMAT, POINT_KEYS, atlas_path, settings_key
 
 __all__ = ["ATLAS_SPEEDS", "PERIOD_FACTORS", "add_handover", "atlas_settings", "build_atlas",
-           "fingerprint", "write_atlas", "write_periods", "write_warm"]  # fmt: skip
+           "check_atlas_paths", "fingerprint", "write_atlas", "write_periods",
+           "write_warm"]  # fmt: skip
 
 ATLAS_SPEEDS = "0.6:2.0:0.1"
 """Reference-subject speeds, m/s: subjects of 1.5-2.0 m walking 0.65-1.9 m/s map inside
@@ -105,6 +106,21 @@ def _entries(summaries: list[dict], preset: str) -> list[dict]:
             for s in summaries if walks(s)]  # fmt: skip
 
 
+def check_atlas_paths(
+    work_dir: str | Path, out_dir: str | Path | None, names: Collection[str]
+) -> None:
+    """Refuse, before any sweep, a ``work_dir`` that is a file, cannot be written or holds
+    anything but sweep folders (:func:`walk3d.outputs.check_folder_of_folders`), and an
+    ``out_dir`` (the package's atlas folder by default) that is a file or cannot be written, or
+    where an atlas file of ``names`` (``sex-preset``) cannot be: ValueError, one line."""
+    from walk3d.outputs import check_folder_of_folders, check_output_file, check_output_folder
+
+    check_folder_of_folders(work_dir, "--work", "sweep.json")
+    root = check_output_folder(Path(out_dir) if out_dir else ATLAS_DIR, "--out")
+    for name in names:
+        check_output_file(root / f"{name}.json", "--out")
+
+
 def build_atlas(
     sex: str,
     criterion: str,
@@ -119,7 +135,8 @@ def build_atlas(
     entries written and the speeds swept.
 
     Raises:
-        ValueError: ``criterion`` is not a named preset, or no speed walked.
+        ValueError: ``criterion`` is not a named preset, ``speeds`` does not parse, a folder
+            is refused (:func:`check_atlas_paths`; all before the sweep), or no speed walked.
     """
     from walk3d.campaign.sweep import parse_speeds, run_sweep
 
@@ -128,6 +145,7 @@ def build_atlas(
         raise ValueError(f"--criterion {criterion}: the atlas holds named presets only "
                          f"({', '.join(terms.PRESETS)})")  # fmt: skip
     grid = parse_speeds(speeds)
+    check_atlas_paths(work_dir, out_dir, [f"{sex}-{preset}"])
     work = Path(work_dir) / f"{sex}-{preset}"
     run_sweep(atlas_settings(sex, preset), grid, work, seed, on_progress=on_progress)
     path, n = write_atlas(sex, preset, work, grid, out_dir, seed)

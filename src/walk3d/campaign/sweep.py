@@ -67,8 +67,9 @@ in between (``;``-separated), whose iterations and time are not in ``iterations`
 def parse_speeds(text: str) -> np.ndarray:
     """``start:stop:step`` (stop included) or a comma list, m/s; ValueError for a range that is
     empty, reversed, outside (0, 4] m/s or of more than :data:`MAX_SPEEDS` speeds (counted
-    before any array is made), and for a speed given twice or within 0.001 m/s of another
-    (each speed has its own folder, :func:`speed_folder`)."""
+    before any array is made), for a list with an empty item (``1.2,,1.3``), and for a speed
+    given twice or within 0.001 m/s of another (each speed has its own folder,
+    :func:`speed_folder`)."""
     try:
         if ":" in text:
             parts = [float(p) for p in text.split(":")]
@@ -85,8 +86,13 @@ def parse_speeds(text: str) -> np.ndarray:
                                  "(a larger step)")  # fmt: skip
             speeds = a + step * np.arange(math.floor(q) + 1)
             speeds = np.round(speeds, 6) if np.all(speeds <= 4.0) else speeds
+        elif text.strip():
+            items = text.split(",")
+            if not all(p.strip() for p in items):
+                raise ValueError(f"--speeds {text}: an empty item (a list like 1.0,1.2,1.4)")
+            speeds = np.array([float(p) for p in items])
         else:
-            speeds = np.array([float(p) for p in text.split(",") if p.strip()])
+            speeds = np.array([])
     except ValueError as exc:
         expected = f"--speeds {text}: expected start:stop:step or a list like 1.0,1.2,1.4 (m/s)"
         raise ValueError(str(exc) if str(exc).startswith("--speeds") else expected) from None

@@ -35,6 +35,7 @@ from walk3d.cli.stdout import (
     GuardedStdout,
     OutputClosed,
     OutputFailed,
+    QuietStderr,
     silence_stdout,
 )
 
@@ -90,10 +91,12 @@ def _run(args: list[str]) -> None:
 def main(argv: list[str] | None = None) -> None:
     """Console-script entry point: usage errors become one line and exit code 2; output that
     cannot be written (disk full) one line and exit code 3; a closed pipe
-    (``walk3d body | head -1``) a quiet exit with code 141, as a tool ended by SIGPIPE."""
+    (``walk3d body | head -1``) a quiet exit with code 141, as a tool ended by SIGPIPE. An
+    error line that cannot be written (``2>/dev/full``) is dropped: the exit code stays."""
     args = list(sys.argv[1:] if argv is None else argv) or ["--help"]
-    stream = sys.stdout
+    stream, errors = sys.stdout, sys.stderr
     sys.stdout = GuardedStdout(stream)
+    sys.stderr = QuietStderr(errors)
     try:
         try:
             _run(args)
@@ -108,5 +111,5 @@ def main(argv: list[str] | None = None) -> None:
         sys.stderr.write(f"walk3d: error: cannot write the output: {str(exc).lower()}\n")
         code = EXIT_WRITE
     finally:
-        sys.stdout = stream
+        sys.stdout, sys.stderr = stream, errors
     sys.exit(code)

@@ -10,7 +10,7 @@ import typer
 from walk3d.cli.common import EXIT_WRITE, app, check_output_file, console, fail
 
 
-@app.command()
+@app.command(short_help="Write an MP4 of a result's walk: 3D, side and front views.")
 def animate(
     pred_dir: Annotated[str, typer.Argument(help="Prediction folder (walk3d predict --out).")],
     cycles: Annotated[int, typer.Option("--cycles", help="Gait cycles shown.", min=1, max=50)] = 2,

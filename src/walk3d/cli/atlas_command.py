@@ -11,10 +11,10 @@ from walk3d.model.terms import DEFAULT_PRESET
 
 atlas_app = typer.Typer(no_args_is_help=True, help="The atlas of walk3d's own solutions that "
                         "predictions start from (docs/starts.md).")  # fmt: skip
-app.add_typer(atlas_app, name="atlas")
+app.add_typer(atlas_app, name="atlas", short_help="The atlas of starts: build it, list its files.")
 
 
-@atlas_app.command("build")
+@atlas_app.command("build", short_help="Sweep the reference subject and write atlas files.")
 def build(
     work: Annotated[str, typer.Option("--work", help="Folder of the sweeps (created or resumed).")],
     sex: Annotated[str, typer.Option("--sex", help="male, female or both.")] = "both",
@@ -34,7 +34,7 @@ def build(
     each sex and preset, and write one atlas file each from the speeds that walk. Rerunning
     resumes the sweeps. Exit code 0 when every file was written, 2 for bad input, 3 if a file
     could not be written."""
-    from walk3d.campaign.atlas import build_atlas
+    from walk3d.campaign.atlas import build_atlas, check_atlas_paths
     from walk3d.campaign.sweep import SweepMismatch, parse_speeds
     from walk3d.model import terms
 
@@ -46,6 +46,7 @@ def build(
         fail(f"--criterion {criterion}: expected named presets ({', '.join(terms.PRESETS)})")
     try:
         parse_speeds(speeds)
+        check_atlas_paths(work, out, [f"{sx}-{p}" for sx in sexes for p in presets])
     except ValueError as exc:
         fail(str(exc))
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
@@ -69,7 +70,7 @@ def build(
                 console.print(f"{path}: {n} of {of} speeds walk", markup=False)
 
 
-@atlas_app.command("show")
+@atlas_app.command("show", short_help="List the package's atlas files.")
 def show() -> None:
     """List the package's atlas files: sex, preset, speeds, solve revision, the entries with a
     handover optimum (and with a primal-dual start) for the one-solve default, those with optima

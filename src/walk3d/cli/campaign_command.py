@@ -42,7 +42,7 @@ from walk3d.cli.common import (
 from walk3d.model.terms import DEFAULT_PRESET
 
 
-@app.command()
+@app.command(short_help="Run random starts in parallel (Dask) and rank them.")
 def campaign(
     ctx: typer.Context,
     starts: Annotated[int, typer.Option("--starts", help="Number of random starts.")],

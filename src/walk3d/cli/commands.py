@@ -53,7 +53,7 @@ from walk3d.cli.common import (
 from walk3d.model.terms import DEFAULT_PRESET
 
 
-@app.command()
+@app.command(short_help="Print the segment table and joint parameters.")
 def body(
     mass: Mass = 68.8,
     height: Height = 1.77,
@@ -151,7 +151,7 @@ def _descriptors_from_trial(ctx, from_trial, grf, **given) -> tuple:
     return values["speed"], values["period"], values["double_support"]
 
 
-@app.command()
+@app.command(short_help="Predict one gait cycle and write its result folder.")
 def predict(
     ctx: typer.Context,
     out: Annotated[str, typer.Option("--out", help="Result folder (created).")],
@@ -344,7 +344,7 @@ def objective_rows(t: Table, objective: dict, criterion: str) -> None:
             t.add_row(key, f"{c['total']:.4g}  (x {c['x']:.3g}, y {c['y']:.3g}, z {c['z']:.3g})")
 
 
-@app.command(name="compile")
+@app.command(name="compile", short_help="Compile the solver's derivatives to C: faster solves.")
 def compile_model(
     speed: Speed = 1.3806,
     period: Period = "auto",
@@ -372,7 +372,7 @@ def compile_model(
     compile_with_progress(settings, console)
 
 
-@app.command(name="cache")
+@app.command(name="cache", short_help="Show the model cache, or clear it.")
 def cache_info(
     clear: Annotated[
         bool,

@@ -17,7 +17,7 @@ _WRITES = ("compare.csv", "compare.png", "report.html")
 """What ``--out`` writes: an earlier comparison's folder holding anything else is refused."""
 
 
-@app.command()
+@app.command(short_help="Compare two results: criteria, angles and moments.")
 def compare(
     dir_a: Annotated[str, typer.Argument(help="First prediction folder (A).")],
     dir_b: Annotated[str, typer.Argument(help="Second prediction folder (B).")],

@@ -12,7 +12,7 @@ from walk3d.cli.common import EXIT_WRITE, app, console, fail
 from walk3d.model.terms import DEFAULT_PRESET
 
 
-@app.command("fit-criterion")
+@app.command("fit-criterion", short_help="Fit criterion weights to measured trials (CMA-ES).")
 def fit_criterion(
     trials: Annotated[str, typer.Argument(help="TOML file of the trials (docs/fitting.md).")],
     out: Annotated[str, typer.Option("--out", help="Fit folder (created or resumed).")],

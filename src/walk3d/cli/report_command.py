@@ -10,7 +10,7 @@ import typer
 from walk3d.cli.common import EXIT_WRITE, app, check_output_file, console, fail
 
 
-@app.command()
+@app.command(short_help="Write a result's or a campaign's HTML page.")
 def report(
     folder: Annotated[
         str, typer.Argument(help="Prediction folder (walk3d predict) or campaign folder.")

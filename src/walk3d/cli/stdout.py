@@ -1,5 +1,6 @@
 """Standard output that cannot be written: a closed pipe or a full disk, told apart from a
-command's own errors so that :func:`walk3d.cli.main` ends each with one fixed behaviour."""
+command's own errors so that :func:`walk3d.cli.main` ends each with one fixed behaviour; and
+standard error that cannot be written, which must not change a command's exit code."""
 
 from __future__ import annotations
 
@@ -7,7 +8,8 @@ import errno
 import os
 from typing import Any, TextIO
 
-__all__ = ["CLOSED_PIPE_EXIT", "GuardedStdout", "OutputClosed", "OutputFailed", "silence_stdout"]
+__all__ = ["CLOSED_PIPE_EXIT", "GuardedStdout", "OutputClosed", "OutputFailed", "QuietStderr",
+           "silence_stdout"]  # fmt: skip
 
 CLOSED_PIPE_EXIT = 141
 """Exit code when the reader of stdout went away (``walk3d body | head -1``): 128 + SIGPIPE,
@@ -52,9 +54,39 @@ class GuardedStdout:
         return getattr(self._stream, name)
 
 
+class QuietStderr:
+    """``stream`` (standard error) whose write and flush errors are dropped: when an error line
+    cannot be written (``2>/dev/full``), the exit code (2 for bad input) still says what
+    happened. After the first failure the stream's file descriptor points at /dev/null, so that
+    the interpreter's own flush at exit does not fail either (which would make it exit 120)."""
+
+    def __init__(self, stream: TextIO) -> None:
+        self._stream = stream
+
+    def _quiet(self, method: str, *args: Any) -> Any:
+        try:
+            return getattr(self._stream, method)(*args)
+        except OSError:
+            silence_stdout(self._stream)
+            return None
+
+    def write(self, text: str) -> int:
+        self._quiet("write", text)
+        return len(text)
+
+    def writelines(self, lines: Any) -> None:
+        self._quiet("writelines", lines)
+
+    def flush(self) -> None:
+        self._quiet("flush")
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+
 def silence_stdout(stream: TextIO) -> None:
-    """Point ``stream``'s file descriptor at /dev/null, so that the interpreter's own flush at
-    exit does not print a second error about the same output."""
+    """Point ``stream``'s file descriptor (standard output's, or error's) at /dev/null, so that
+    the interpreter's own flush at exit does not print a second error about the same output."""
     try:
         fd = stream.fileno()
     except (OSError, ValueError, AttributeError):

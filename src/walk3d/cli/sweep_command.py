@@ -28,7 +28,7 @@ from walk3d.cli.common import (
 from walk3d.model.terms import DEFAULT_PRESET
 
 
-@app.command()
+@app.command(short_help="Predict across walking speeds, each from its neighbour.")
 def sweep(
     speeds: Annotated[
         str, typer.Option("--speeds", help="start:stop:step (stop included) or a list, m/s.")

@@ -20,7 +20,7 @@ from walk3d.cli.common import (
 )
 
 
-@app.command()
+@app.command(short_help="Track a measured gait inside walk3d's model.")
 def track(
     out: Annotated[str, typer.Option("--out", help="Result folder to write.")],
     ik: Annotated[str | None, typer.Option("--ik", help="IK .mot of a measured trial.")] = None,
@@ -130,7 +130,7 @@ def track(
         raise typer.Exit(1)
 
 
-@app.command()
+@app.command(short_help="What the criterion charges a tracked gait, phase by phase.")
 def audit(
     tracked: Annotated[str, typer.Argument(help="Result folder of walk3d track.")],
     predicted: Annotated[str, typer.Argument(help="Result folder of walk3d predict.")],

@@ -22,7 +22,7 @@ from walk3d.cli.common import (
 )
 
 
-@app.command()
+@app.command(short_help="Compare a prediction with measured walking.")
 def validate(
     pred_dir: Annotated[str, typer.Argument(help="Prediction folder (walk3d predict --out).")],
     reference: Annotated[
@@ -99,7 +99,7 @@ def validate(
                   markup=False)  # fmt: skip
 
 
-@app.command()
+@app.command(short_help="Fit the foot roll-over and transition ratios to a trial.")
 def calibrate(
     ik: Annotated[str, typer.Option("--ik", help="IK .mot of a measured trial.")],
     grf: Annotated[str, typer.Option("--grf", help="GRF .mot of the same trial.")],

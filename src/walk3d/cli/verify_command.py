@@ -30,7 +30,7 @@ def _residual_table(whole, smooth, bars) -> Table:
     return t
 
 
-@app.command()
+@app.command(short_help="Check a result with OpenSim's inverse dynamics.")
 def verify(
     pred_dir: Annotated[str, typer.Argument(help="Prediction folder (walk3d predict --out).")],
     timeout: Annotated[

@@ -11,7 +11,8 @@ against):
   header lines may carry trailing tabs (as spreadsheet-exported files do).
 
 After ``endheader`` comes one line of column labels (the first is time) and then one row of
-numbers per sample. Blank lines are ignored. ``nan``/``inf`` are accepted as numbers.
+numbers per sample. Blank lines are ignored. ``nan``/``inf`` are accepted as numbers, except
+in the time column, which must hold 2 or more finite, strictly increasing samples.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from walk3d.io.atomic import atomic_write_text
+from walk3d.io.checks import increasing
 from walk3d.io.errors import DataFileError
 
 __all__ = ["Storage", "read_storage", "write_storage"]
@@ -177,7 +179,8 @@ def read_storage(path: str | PathLike[str], finite: bool = False) -> Storage:
         DataFileError: The file is malformed or truncated: no ``endheader``, no column labels,
             duplicate labels, a row with the wrong number of values, a value that is not a
             number, or a row/column count that disagrees with ``nRows``/``nColumns``
-            (``datarows``/``datacolumns``). The message names the file and line.
+            (``datarows``/``datacolumns``), a time that is not finite, fewer than 2 rows, or
+            a time that does not strictly increase. The message names the file (and the line).
     """
     path = Path(path)
     raw = path.read_bytes()
@@ -263,6 +266,9 @@ def read_storage(path: str | PathLike[str], finite: bool = False) -> Storage:
     if bad_time.size:
         raise DataFileError(path, f"time holds {values[bad_time[0], 0]} in data row "
                             f"{int(bad_time[0]) + 1}", None)  # fmt: skip
+    if len(rows) < 2:  # rates and periods divide by the time steps
+        raise DataFileError(path, f"{len(rows)} data rows: a motion needs 2 or more samples", last)
+    increasing(path, "time", values[:, 0])  # a constant or zero time is refused
     storage = Storage(
         name=name,
         time=values[:, 0],

@@ -1,0 +1,89 @@
+"""The what-if options (--strength, --range, --added-mass): an empty or malformed spec is one
+line and exit code 2 before any solve; repeated options merge, the same name with two values
+is refused. The solve is replaced by one that records its settings and stops."""
+
+import math
+
+import pytest
+from helpers import cli, one_line_error
+
+
+class Solved(Exception):
+    """walk3d.pipeline.predict was reached: the command accepted its input."""
+
+
+@pytest.fixture
+def solve(monkeypatch):
+    """Replace the prediction by one that keeps its settings and raises :class:`Solved`."""
+    import walk3d.pipeline as pipeline
+
+    seen = {}
+
+    def predict(settings, *args, **kwargs):
+        seen["settings"] = settings
+        raise Solved
+
+    monkeypatch.setattr(pipeline, "predict", predict)
+    return seen
+
+
+BAD = [
+    (["--strength", ""], "--strength is empty"),
+    (["--strength", " "], "--strength is empty"),
+    (["--range", ""], "--range is empty"),
+    (["--added-mass", ""], "--added-mass is empty"),
+    (["--strength", "ankle=0.5", "--strength", ""], "--strength is empty"),
+    (["--strength", "ankle="], "--strength takes NAME=VALUE[,...], got 'ankle='"),
+    (["--strength", "=0.5"], "--strength takes NAME=VALUE[,...], got '=0.5'"),
+    (["--strength", "ankle=0.5,,knee=0.3"], "'ankle=0.5,,knee=0.3' has an empty item"),
+    (["--added-mass", "torso=1,"], "--added-mass 'torso=1,' has an empty item"),
+    (["--range", "knee_flexion=-5:5,"], "--range 'knee_flexion=-5:5,' has an empty item"),
+    (["--strength", "ankle=0.5", "--strength", "ankle=0.4"], "names the same part twice"),
+    (["--strength", "ankle=0.5", "--strength", "ankle_r=0.4"], "names the same part twice"),
+    (["--added-mass", "torso=3", "--added-mass", "torso=4"], "names the same part twice"),
+]
+
+
+@pytest.mark.parametrize(("args", "words"), BAD)
+def test_an_empty_or_malformed_what_if_spec_is_refused_before_any_solve(
+    capsys, tmp_path, solve, args, words
+):
+    """``--strength ''`` was no change at all; a second --strength replaced the first."""
+    one_line_error(cli(capsys, "predict", "--out", tmp_path / "o", *args), words)
+    assert not solve and not (tmp_path / "o").exists()
+
+
+def test_sweep_refuses_an_empty_strength_spec(capsys, tmp_path, solve, monkeypatch):
+    import walk3d.campaign.sweep as sweep
+
+    monkeypatch.setattr(sweep, "run_sweep", lambda *a, **k: pytest.fail("the sweep started"))
+    one_line_error(cli(capsys, "sweep", "--speeds", "1.2", "--out", tmp_path / "s",
+                       "--strength", ""), "--strength is empty")  # fmt: skip
+    assert not (tmp_path / "s").exists()
+
+
+def _accepted(capsys, tmp_path, solve, *args):
+    """The model changes of ``walk3d predict ARGS``, which reaches the solve."""
+    with pytest.raises(Solved):
+        cli(capsys, "predict", "--out", tmp_path / "o", *args)
+    return solve["settings"].model.changes
+
+
+def test_repeated_what_if_options_merge(capsys, tmp_path, solve):
+    """Negative control: each joint, segment and DoF given once (or twice alike) is kept."""
+    changes = _accepted(capsys, tmp_path, solve, "--strength", "ankle=0.5",
+                        "--strength", "knee=0.8,hip=0.9", "--strength", "ankle=0.50",
+                        "--added-mass", "torso=10", "--added-mass", "foot=1",
+                        "--range", "ankle_dorsiflexion=-5:5", "--range",
+                        "knee_flexion=-3:60")  # fmt: skip
+    assert sorted(changes.strength) == [("ankle", 0.5), ("hip", 0.9), ("knee", 0.8)]
+    assert sorted(changes.added_mass) == [("foot", 1.0), ("torso", 10.0)]
+    assert sorted((n, round(math.degrees(lo)), round(math.degrees(hi)))
+                  for n, lo, hi in changes.limits) == [("ankle_dorsiflexion", -5, 5),
+                                                       ("knee_flexion", -3, 60)]  # fmt: skip
+
+
+def test_a_single_what_if_spec_is_accepted(capsys, tmp_path, solve):
+    """Negative control: one --strength list, as before."""
+    changes = _accepted(capsys, tmp_path, solve, "--strength", "ankle=0.5,knee=0.8")
+    assert sorted(changes.strength) == [("ankle", 0.5), ("knee", 0.8)]
