@@ -267,3 +267,25 @@ def test_a_converged_gait_that_does_not_walk_exits_4_with_one_line(tmp_path):
         assert r.stderr.strip().splitlines() == [
             "walk3d: the converged gait does not look like walking; written and labelled"
         ]
+
+
+@pytest.mark.solve
+def test_sigterm_stops_predict_with_one_line_exit_143_and_nothing_left(tmp_path):
+    """SIGTERM (a scheduler's, or ``timeout``'s) while IPOPT iterates: one line and exit 143,
+    no result and no temporary folder beside it."""
+    import signal
+    import time
+
+    out = tmp_path / "o"
+    cmd = [sys.executable, "-m", "walk3d.cli", "predict", "--out", str(out), "--nodes", "8",
+           "--criterion", "tor", "--threads", "1", "--no-compile-later"]  # fmt: skip
+    env = os.environ | {"OPENBLAS_NUM_THREADS": "1"}
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    time.sleep(12)
+    p.send_signal(signal.SIGTERM)
+    t0 = time.perf_counter()
+    _, err = p.communicate(timeout=120)
+    assert p.returncode == 143, err
+    assert err.strip().splitlines() == ["walk3d: terminated"], err
+    assert time.perf_counter() - t0 < 15
+    assert list(tmp_path.iterdir()) == []  # neither the result nor a .tmp_* folder

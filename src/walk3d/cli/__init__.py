@@ -12,7 +12,9 @@ shared options in :mod:`walk3d.cli.common`.
 from __future__ import annotations
 
 import os
+import signal
 import sys
+import threading
 
 import typer
 
@@ -48,11 +50,22 @@ def _root() -> None:
 
 
 def _interrupted() -> None:
-    """Ctrl-C: one line and exit code 130 at once; nothing is left to write."""
-    err_console.print("walk3d: interrupted", markup=False)
+    """Ctrl-C (SIGTERM): one line and exit code 130 (143) at once; the temporaries were removed
+    while the exception unwound, and nothing is left to write."""
+    from walk3d.solve.progress import INTERRUPT
+
+    terminated = INTERRUPT.terminated
+    err_console.print("walk3d: terminated" if terminated else "walk3d: interrupted", markup=False)
     sys.stdout.flush()
     sys.stderr.flush()
-    os._exit(130)
+    os._exit(143 if terminated else 130)
+
+
+def _on_sigterm(_signum, _frame) -> None:
+    from walk3d.solve.progress import INTERRUPT, Terminated
+
+    INTERRUPT.terminated = True
+    raise Terminated
 
 
 def _needs_command(exc: Exception) -> str:
@@ -94,6 +107,8 @@ def main(argv: list[str] | None = None) -> None:
     (``walk3d body | head -1``) a quiet exit with code 141, as a tool ended by SIGPIPE. An
     error line that cannot be written (``2>/dev/full``) is dropped: the exit code stays."""
     args = list(sys.argv[1:] if argv is None else argv) or ["--help"]
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _on_sigterm)
     stream, errors = sys.stdout, sys.stderr
     sys.stdout = GuardedStdout(stream)
     sys.stderr = QuietStderr(errors)

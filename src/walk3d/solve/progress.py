@@ -24,10 +24,17 @@ StopRule = Callable[[int, float, float], bool]
 ``User_Requested_Stop``)."""
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (a scheduler, ``timeout``, ``kill``): stops a run as Ctrl-C does, so that its
+    temporaries are removed on the way out (exit code 143 at the command line)."""
+
+
 class _Interrupt:
-    """Whether Ctrl-C came while IPOPT was running (:func:`interruptible`)."""
+    """Whether Ctrl-C or SIGTERM came while IPOPT was running (:func:`interruptible`)."""
 
     requested = False
+    terminated = False
+    """Whether a SIGTERM came (it stays set: the process is ending)."""
 
 
 INTERRUPT = _Interrupt()
@@ -35,8 +42,8 @@ INTERRUPT = _Interrupt()
 
 @contextlib.contextmanager
 def interruptible() -> Iterator[None]:
-    """Inside this block (a solve), SIGINT (Ctrl-C) only sets a flag: IPOPT stops at its next
-    iteration, and the caller raises KeyboardInterrupt at its next check
+    """Inside this block (a solve), SIGINT (Ctrl-C) and SIGTERM only set a flag: IPOPT stops at
+    its next iteration, and the caller raises KeyboardInterrupt at its next check
     (:func:`raise_if_interrupted`: after the model build, after each stage). Raised inside
     CasADi instead, it is swallowed: as a failed stage (``NonIpopt_Exception_Thrown``) in IPOPT's
     callback, or silently by the argument conversion of CasADi's Python bindings while the
@@ -47,21 +54,24 @@ def interruptible() -> Iterator[None]:
         yield
         return
 
-    def handler(_signum, _frame) -> None:
+    def handler(signum, _frame) -> None:
         INTERRUPT.requested = True
+        INTERRUPT.terminated |= signum == signal.SIGTERM
 
-    previous = signal.signal(signal.SIGINT, handler)
+    previous = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous)
+        for s, h in previous.items():
+            signal.signal(s, h)
 
 
 def raise_if_interrupted() -> None:
-    """Raise KeyboardInterrupt if Ctrl-C came during the last :func:`interruptible` block."""
+    """Raise KeyboardInterrupt (:class:`Terminated` for SIGTERM) if Ctrl-C or SIGTERM came
+    during the last :func:`interruptible` block."""
     if INTERRUPT.requested:
         INTERRUPT.requested = False
-        raise KeyboardInterrupt
+        raise Terminated if INTERRUPT.terminated else KeyboardInterrupt
 
 
 def bound_violation(v: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
