@@ -37,6 +37,7 @@ from walk3d.cli.common import (
     fail,
     gait_fields,
     paper_case,
+    scheduler_option,
     settings_from_options,
 )
 from walk3d.model.terms import DEFAULT_PRESET
@@ -104,13 +105,7 @@ def campaign(
     if workers is not None and workers < 1:
         fail(f"--workers must be a positive integer, got {workers}")
     check_output_folder(out)
-    if scheduler:
-        from walk3d.campaign.runner import check_scheduler
-
-        try:
-            check_scheduler(scheduler)
-        except ValueError as exc:
-            fail(str(exc))
+    scheduler_option(scheduler)
     case = paper_case(ctx, paper, {"speed": speed, "period": period, "mass": mass, "sex": sex,
                                    "double_support": double_support, "height": height,
                                    "criterion": criterion})  # fmt: skip

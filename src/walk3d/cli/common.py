@@ -374,3 +374,16 @@ def start_text(summary: dict) -> str:
     if first.get("start") == "atlas":
         return "standing (after the atlas start did not converge)"
     return start
+
+
+def scheduler_option(scheduler: str | None) -> None:
+    """``--scheduler``: a Dask scheduler that answers (:func:`walk3d.campaign.runner.
+    check_scheduler`), or one line and exit 2; nothing to check when None."""
+    if not scheduler:
+        return
+    from walk3d.campaign.runner import check_scheduler
+
+    try:
+        check_scheduler(scheduler)
+    except ValueError as exc:
+        fail(str(exc))

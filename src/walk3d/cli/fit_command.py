@@ -8,7 +8,7 @@ import typer
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from walk3d.cli.common import EXIT_WRITE, app, console, fail
+from walk3d.cli.common import EXIT_WRITE, app, console, fail, scheduler_option
 from walk3d.model.terms import DEFAULT_PRESET
 
 
@@ -65,13 +65,7 @@ def fit_criterion(
     except (ValueError, DataFileError) as exc:
         fail(" ".join(str(exc).split()))
     check_output_folder(out)
-    if scheduler:
-        from walk3d.campaign.runner import check_scheduler
-
-        try:
-            check_scheduler(scheduler)
-        except ValueError as exc:
-            fail(str(exc))
+    scheduler_option(scheduler)
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
                TimeElapsedColumn())  # fmt: skip
     with Progress(*columns, console=console, transient=True) as progress:

@@ -24,13 +24,13 @@ validate --reference`` takes; ``reference_speed`` is its ``--speed`` (a treadmil
 
 from __future__ import annotations
 
-import tomllib
 from os import PathLike
 from pathlib import Path
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from walk3d.io.checks import read_toml
 from walk3d.io.errors import DataFileError
 
 __all__ = ["FitTrial", "read_trials"]
@@ -91,12 +91,7 @@ def read_trials(path: str | PathLike[str]) -> list[FitTrial]:
     """The trials of ``path``; DataFileError (one line) when the file is missing, not TOML, a
     trial is malformed, two share a name, or a file it names does not exist."""
     p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise DataFileError(p, exc.strerror or str(exc)) from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise DataFileError(p, f"not a TOML file: {exc}") from None
+    data = read_toml(p)
     raw = data.get("trial")
     if not isinstance(raw, list) or not raw or not all(isinstance(t, dict) for t in raw):
         raise DataFileError(p, "no [[trial]] tables")

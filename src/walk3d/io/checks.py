@@ -186,3 +186,19 @@ def file_digest(path: str | PathLike[str]) -> str:
     import hashlib
 
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def read_toml(path: str | PathLike[str]) -> dict:
+    """The TOML file ``path`` as a dict; DataFileError (one line) when it cannot be read or is
+    not TOML."""
+    import tomllib
+
+    from walk3d.io.errors import DataFileError
+
+    p = Path(path)
+    try:
+        return tomllib.loads(p.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise DataFileError(p, exc.strerror or str(exc)) from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise DataFileError(p, f"not a TOML file: {exc}") from None

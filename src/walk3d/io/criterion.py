@@ -13,10 +13,10 @@ Term names are those of :mod:`walk3d.model.terms`; the weights are checked there
 from __future__ import annotations
 
 import math
-import tomllib
 from os import PathLike
 from pathlib import Path
 
+from walk3d.io.checks import read_toml
 from walk3d.io.errors import DataFileError
 
 __all__ = ["read_criterion", "write_criterion"]
@@ -26,12 +26,7 @@ def read_criterion(path: str | PathLike[str]) -> str:
     """The weights in ``path`` as an inline criterion ``name=w,...``; DataFileError if the file
     is missing, not TOML, or holds anything but finite numbers."""
     p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise DataFileError(p, exc.strerror or str(exc)) from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise DataFileError(p, f"not a TOML file: {exc}") from None
+    data = read_toml(p)
     table = data.get("criterion", data)
     if not isinstance(table, dict) or not table:
         raise DataFileError(p, "no criterion weights (expected e.g. 'tor = 1' lines)")
