@@ -8,14 +8,13 @@ evaluation survives the client; a record already there is returned without solvi
 from __future__ import annotations
 
 import hashlib
-import json
 import time
 import traceback
 from pathlib import Path
 from typing import Literal
 
+from walk3d.campaign.store import clean_json, write_json
 from walk3d.fitting.trials import FitTrial
-from walk3d.io.atomic import atomic_write_text
 from walk3d.io.checks import read_json_object
 from walk3d.problem.settings import PredictionSettings
 from walk3d.validation.score import FAILED
@@ -43,26 +42,23 @@ def trial_descriptors(trial: FitTrial) -> tuple[float, float, float]:
     return d.speed, d.period, d.double_support
 
 
-def trial_settings(trial: FitTrial, criterion: str, mode: Mode) -> PredictionSettings:
+def trial_settings(
+    trial: FitTrial,
+    criterion: str,
+    mode: Mode,
+    descriptors: tuple[float, float, float] | None = None,
+) -> PredictionSettings:
     """The prediction of ``trial`` under ``criterion`` (canonical), with the measured T and Td
-    (``given``) or both predicted; one thread, as the workers run side by side."""
+    (``given``) or both predicted; one thread, as the workers run side by side.
+    ``descriptors``: the trial's :func:`trial_descriptors`, when already read."""
     from walk3d.problem.descriptors import auto_descriptors
 
-    speed, period, td = trial_descriptors(trial)
+    speed, period, td = descriptors or trial_descriptors(trial)
     given = (period, td) if mode == "given" else (None, None)
     t, d, free = auto_descriptors(speed, trial.height, *given)
     return PredictionSettings(speed=speed, period=t, double_support=d, free=free,
                               mass=trial.mass, height=trial.height, sex=trial.sex,
                               criterion=criterion, threads=1)  # fmt: skip
-
-
-def _write(path: Path, record: dict) -> dict:
-    atomic_write_text(path, json.dumps(record, indent=1, sort_keys=True, allow_nan=False) + "\n")
-    return record
-
-
-def _finite(values: dict) -> dict:
-    return {k: (float(v) if v == v and abs(v) != float("inf") else None) for k, v in values.items()}
 
 
 def evaluate(
@@ -93,14 +89,13 @@ def evaluate(
         from walk3d.validation.run import load_references
         from walk3d.validation.score import score
 
-        settings = trial_settings(trial, criterion, mode)
+        measured = trial_descriptors(trial)
+        settings = trial_settings(trial, criterion, mode, measured)
         pred = predict(settings, seed, solver, out_dir=result_dir)
         reference = load_references(trial.reference, trial.mass, speed=trial.reference_speed)[0]
-        result = score(
-            compare(pred, reference, trial.name), pred.summary, trial_descriptors(trial)[2]
-        )
-        record |= {"score": result.total, "parts": _finite(result.parts),
-                   "figures": _finite(result.figures), "failed": result.failed,
+        result = score(compare(pred, reference, trial.name), pred.summary, measured[2])
+        record |= {"score": result.total, "parts": result.parts,
+                   "figures": result.figures, "failed": result.failed,
                    "converged": bool(pred.summary.get("converged")),
                    "iterations": pred.summary.get("iterations"),
                    "descriptors": pred.summary.get("descriptors")}  # fmt: skip
@@ -112,4 +107,5 @@ def evaluate(
 
         forget_solvers()  # each criterion builds its own solver, hundreds of MB
     record["wall_time_s"] = time.perf_counter() - t0
-    return _write(path, record)
+    write_json(path, record)  # non-finite figures as null
+    return clean_json(record)

@@ -10,7 +10,14 @@ from pathlib import Path
 import numpy as np
 
 from walk3d.fitting.evaluate import MODES
-from walk3d.fitting.search import SIGMA0, Evaluations, FitMismatch, Parameter, criterion_of
+from walk3d.fitting.search import (
+    SIGMA0,
+    Evaluations,
+    FitMismatch,
+    Parameter,
+    criterion_of,
+    weights_of,
+)
 from walk3d.fitting.trials import FitTrial
 from walk3d.io.atomic import atomic_write_text
 from walk3d.io.checks import read_json_object
@@ -48,11 +55,12 @@ def _identity(trials, params, base, modes, seed, popsize, held_out) -> dict:
 
 def _open(out: Path, identity: dict) -> None:
     mark = out / FIT_MARK
+    identity = json.loads(json.dumps(identity))  # as stored: tuples as lists
     if mark.exists():
         stored = read_json_object(mark)
         stored.pop("walk3d", None)
-        if stored != json.loads(json.dumps(identity)):
-            diff = [k for k in identity if stored.get(k) != json.loads(json.dumps(identity[k]))]
+        if stored != identity:
+            diff = [k for k in identity if stored.get(k) != identity[k]]
             raise FitMismatch(f"{out} holds a fit with other {', '.join(diff) or 'settings'}; "
                               "choose another --out")  # fmt: skip
         return
@@ -124,7 +132,7 @@ def fit_criterion(
                                                "bounds": [0, 1], "verbose": -9})  # fmt: skip
     rows: list[dict] = []
     with dask_client(workers, scheduler, popsize * len(fit_on) * len(modes)) as client:
-        ev = Evaluations(client, trials, out / "evaluations", seed, advance)
+        ev = Evaluations(client, out / "evaluations", seed, advance)
         jobs = [(start, t, m) for t in trials for m in modes]
         records = ev.run(jobs)
         scores = {start: _mean(records, start, fit_on, modes)}
@@ -148,7 +156,7 @@ def fit_criterion(
                         "candidate": i,
                         "score": s,
                         "criterion": c,
-                        **dict(zip([p.name for p in params], _weights(params, u), strict=True)),
+                        **weights_of(params, u),
                     }
                 )
         best = min(scores, key=scores.get)
@@ -161,10 +169,6 @@ def fit_criterion(
                        tuple(t.name for t in kept))  # fmt: skip
     result.files = _write_outputs(out, result, params, rows, fit_on)
     return result
-
-
-def _weights(params: Sequence[Parameter], u: Sequence[float]) -> list[float]:
-    return [p.from_unit(x) for p, x in zip(params, u, strict=True)]
 
 
 def _write_outputs(out: Path, result: FitResult, params, rows, fit_on) -> dict[str, Path]:

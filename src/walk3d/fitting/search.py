@@ -106,7 +106,6 @@ class Evaluations:
     """Runs evaluations on a Dask client, reusing stored records."""
 
     client: object
-    trials: Sequence[FitTrial]
     records_dir: Path
     seed: int
     on_done: Callable[[dict], None] | None = None

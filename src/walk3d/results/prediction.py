@@ -295,14 +295,15 @@ def check_complete(out_dir: str | PathLike[str], remade: Collection[str] = ()) -
         raise DataFileError(
             out, f"incomplete result folder: no {MANIFEST} (written last by walk3d predict)"
         )
-    files = read_json_object(path, "walk3d manifest").get("files")
+    manifest = read_json_object(path, "walk3d manifest")
+    files = manifest.get("files")
     if not isinstance(files, dict):
         raise DataFileError(path, "not a walk3d manifest: no 'files' object")
     for name, size in files.items():
         plain_file_name(path, name, "listed file")
         if not isinstance(size, int) or isinstance(size, bool) or size < 0:
             raise DataFileError(path, f"the size of {name} is {size!r:.40}, not a byte count")
-    digests = read_json_object(path, "walk3d manifest").get("sha256", {})
+    digests = manifest.get("sha256", {})
     for name in (*RESULT_FILES, *files):
         f = out / name
         optional = name in VIEW_FILES and (name in remade or name in UNREAD_VIEWS)
