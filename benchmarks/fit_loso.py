@@ -1,11 +1,13 @@
 """Leave-one-source-out fits of the criterion (issue #59), in one command.
 
     python benchmarks/fit_loso.py [--parameters impact arms spin head accel]
-                                  [--generations 6] [--popsize 6] [--all] [--reference]
+                                  [--generations 6] [--popsize 6] [--all] [--runs DIR]
+                                  [--reference]
 
 For each of the three sources of ``benchmarks/fit_trials.toml`` (Falisse ``gait_1``, Winter,
 OpenSim subject01) it runs ``walk3d fit-criterion`` on the other two with that source held out,
-in ``benchmarks/runs/fit/loso-<source>/`` (git-ignored; a rerun resumes each fold). ``--all``
+in ``benchmarks/runs/fit/loso-<source>/`` (git-ignored; ``--runs`` another folder; a rerun
+resumes each fold). ``--all``
 adds a fit on all three (``benchmarks/runs/fit/all/``). It then prints, per fold, the start's
 (``natural``) and the best weighting's score on every source, held out or not, and the fitted
 weights; the table and the environment go to ``benchmarks/runs/fit_loso-<stamp>.json``
@@ -51,10 +53,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--generations", type=int, default=6)
     ap.add_argument("--popsize", type=int, default=6)
     ap.add_argument("--all", action="store_true", help="also fit on all three sources")
+    ap.add_argument("--runs", type=Path, default=ROOT / "benchmarks" / "runs" / "fit",
+                    help="folder of the folds (one fit folder each)")
     environment.add_output_arguments(ap, "fit_loso")
     a = ap.parse_args(argv)
     path = environment.output_path(a, "fit_loso")
-    runs = ROOT / "benchmarks" / "runs" / "fit"
+    runs = a.runs
     folds = [(f"loso-{s}", s) for s in SOURCES] + ([("all", None)] if a.all else [])
     result = {"environment": environment.environment(), "parameters": a.parameters,
               "generations": a.generations, "popsize": a.popsize, "folds": {}}  # fmt: skip
