@@ -44,6 +44,7 @@ def _dense(m) -> np.ndarray:
                 "criterion": "tor=2,accel=0.5,jerk=0.3,head=0.3,impact=0.5,sag=0.2,shear=0.4,"
                 "pose=0.5,pelvis=0.5,momentum=0.3,spin=0.7,arms=0.6",
                 "heel_strike_nodes": 2,
+                "contact_checks": 1,
                 "cop_margin": 0.02,
             },
             marks=pytest.mark.model,

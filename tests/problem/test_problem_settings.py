@@ -29,6 +29,7 @@ ADDED_SINCE = [
     "tracking",
     "swing_clearance",
     "heel_strike_nodes",
+    "contact_checks",
     "reject_crouch",
     "free",
     "start",

@@ -87,8 +87,10 @@ def bounds(
     lbx[layout.I_HALF_STEP], ubx[layout.I_HALF_STEP] = 0.02, 0.25
     ylo, yhi = _coord_bounds(body, settings, sch)
     t_lo, t_hi = (-np.inf, np.inf) if slack else (0.0, 0.0)
-    lbz = np.concatenate([lbx, ylo.ravel(), np.full(6, -np.inf), np.full(n_nodes * N_T, t_lo)])
-    ubz = np.concatenate([ubx, yhi.ravel(), np.full(6, np.inf), np.full(n_nodes * N_T, t_hi)])
+    weighted_node = np.repeat(~sch.checks, N_T)  # a contact check's slacks are unused: 0
+    t_lo, t_hi = np.where(weighted_node, t_lo, 0.0), np.where(weighted_node, t_hi, 0.0)
+    lbz = np.concatenate([lbx, ylo.ravel(), np.full(6, -np.inf), t_lo])
+    ubz = np.concatenate([ubx, yhi.ravel(), np.full(6, np.inf), t_hi])
 
     glo = np.full((n_nodes, N_G), -np.inf)
     ghi = np.full((n_nodes, N_G), np.inf)
@@ -97,6 +99,8 @@ def bounds(
     for k in range(n_nodes):
         if sch.double_support[k]:
             tol = settings.model.loop_tolerance
+            if sch.checks[k]:  # as the loop checks between nodes
+                tol = max(tol, settings.solver.loop_check_tolerance)
             glo[k, loop], ghi[k, loop] = 0.0 - tol, tol
         if sch.swing[k]:
             glo[k, R["other_points_y"]] = settings.model.swing_clearance
@@ -112,7 +116,7 @@ def bounds(
             glo[k, R["root_force"].start] = 0.0
             ghi[k, R["root_force"].start + 1 : R["root_force"].stop] = 0.0
         glo[k, R["ball_norm"]], ghi[k, R["ball_norm"]] = 0.0, BALL_NORM_MAX
-        if slack:
+        if slack and not sch.checks[k]:
             glo[k, R["slack_pos"]] = glo[k, R["slack_neg"]] = 0.0
         if per_foot and k > 0 or not dynamics and balance and sch.swing[k]:
             glo[k, R["root_support"]] = 0.0

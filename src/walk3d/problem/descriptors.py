@@ -65,7 +65,8 @@ def given_checks(period: float, ds: float) -> list[tuple[bool, str]]:
 @dataclass(frozen=True)
 class FreeGrid:
     """The phase-following grid (module doc) of ``n`` nodes, ``n_ds`` intervals in double
-    support. Arrays are per node."""
+    support, the last ``n_checks`` of them contact checks (:func:`free_grid`). Arrays are per
+    node."""
 
     n_ds: int
     a: np.ndarray
@@ -75,6 +76,13 @@ class FreeGrid:
     double_support: np.ndarray
     ramp: float | None = None
     """The leading foot's load ramp (:func:`walk3d.contact.phases.trailing_share`)."""
+    n_checks: int = 0
+    """Contact-check nodes at the end: inside the double-support intervals, zero weight."""
+
+    @property
+    def check(self) -> np.ndarray:
+        """Per node, whether it is a contact check (no quadrature weight, no slacks)."""
+        return np.arange(self.n) >= self.n - self.n_checks
 
     @property
     def n(self) -> int:
@@ -119,22 +127,36 @@ def ds_intervals(nodes: int) -> int:
     return int(np.clip(round(nodes * 2 * DS_NODE_FRACTION), 2, nodes - 3))
 
 
-def free_grid(nodes: int, n_ds: int | None = None, ramp: float | None = None) -> FreeGrid:
+def free_grid(
+    nodes: int, n_ds: int | None = None, ramp: float | None = None, checks: int = 0
+) -> FreeGrid:
     """The grid for ``nodes`` nodes with ``n_ds`` double-support intervals (default:
-    :func:`ds_intervals`) and the load ramp ``ramp`` (:class:`FreeGrid`)."""
+    :func:`ds_intervals`) and the load ramp ``ramp`` (:class:`FreeGrid`), plus ``checks``
+    contact-check nodes evenly inside each double-support interval, appended after the nodes
+    (:mod:`walk3d.problem.schedule` says why)."""
     n_ds = ds_intervals(nodes) if n_ds is None else int(n_ds)
     if not 1 <= n_ds <= nodes - 2:
         raise ValueError(f"{n_ds} double-support intervals do not fit {nodes} nodes")
     m = nodes - n_ds
     k = np.arange(nodes)
     in_ds = k < n_ds
-    a = np.where(in_ds, k / n_ds, 1.0)
-    b = np.where(in_ds, 0.0, (k - n_ds) / m)
+    frac = np.arange(1, checks + 1) / (checks + 1)
+    a_check = (np.arange(n_ds)[:, None] + frac[None, :]).ravel() / n_ds
+    n_c = a_check.size
+    a = np.concatenate([np.where(in_ds, k / n_ds, 1.0), a_check])
+    b = np.concatenate([np.where(in_ds, 0.0, (k - n_ds) / m), np.zeros(n_c)])
     return FreeGrid(
         n_ds=n_ds, a=a, b=b,
-        alpha=np.where(in_ds, 1.0 / n_ds, 0.0), beta=np.where(in_ds, 0.0, 1.0 / m),
-        double_support=k <= n_ds, ramp=ramp,
+        alpha=np.concatenate([np.where(in_ds, 1.0 / n_ds, 0.0), np.zeros(n_c)]),
+        beta=np.concatenate([np.where(in_ds, 0.0, 1.0 / m), np.zeros(n_c)]),
+        double_support=np.concatenate([k <= n_ds, np.ones(n_c, dtype=bool)]), ramp=ramp,
+        n_checks=n_c,
     )  # fmt: skip
+
+
+def grid_for(solver: Any, ramp: float | None = None) -> FreeGrid:
+    """The free grid of the solver settings ``solver`` (nodes and contact checks)."""
+    return free_grid(solver.nodes, ramp=ramp, checks=solver.contact_checks)
 
 
 def objective_scale(period: Any, period0: float) -> Any:

@@ -42,7 +42,7 @@ def build_free_nlp(
     check_supported(settings)
     sch = schedule(settings)
     gait = settings.gait
-    grid = descriptors.free_grid(settings.solver.nodes, ramp=settings.model.load_ramp)
+    grid = descriptors.grid_for(settings.solver, ramp=settings.model.load_ramp)
     n = sch.n
     s = ca.MX.sym("s", descriptors.N_S)
     consts = coupling.node_constants(grid, gait.speed, gait.period)

@@ -36,7 +36,14 @@ class Schedule:
     """Spacing of the regular grid, s."""
     weights: np.ndarray | None = None
     """Quadrature weight of each node, s, when the grid is not regular (nodes added after heel
-    strike); None: every node weighs ``step``."""
+    strike, contact checks); None: every node weighs ``step``."""
+    check: np.ndarray | None = None
+    """Per node, whether it is a contact check (zero weight, no slacks); None: none."""
+
+    @property
+    def checks(self) -> np.ndarray:
+        """Per node, whether it is a contact check (all False without any)."""
+        return np.zeros(self.n, dtype=bool) if self.check is None else self.check
 
     @property
     def n(self) -> int:
@@ -57,6 +64,12 @@ def schedule(settings: PredictionSettings) -> Schedule:
     the regular grid alone it left the foot by up to 3 cm × 0.2 body weight between node 0 and
     node 1 (docs/criteria.md). With extra nodes the grid is not regular, and each node weighs
     the half-width of its two intervals (the midpoint rule of a periodic grid).
+
+    Contact checks (``settings.solver.contact_checks`` per double-support interval, appended
+    after the nodes, the last one before the trailing foot's toe off): nodes whose rows hold
+    as a double-support node's but that weigh nothing in the criterion. Between the nodes of
+    double support the leading foot loads from nothing to most of the body weight, and its
+    centre of pressure left the heel by 3 cm at 0.8 body weight there (docs/criteria.md).
     """
     if settings.gait.free:
         return free_schedule(settings)
@@ -70,7 +83,16 @@ def schedule(settings: PredictionSettings) -> Schedule:
         tau = np.sort(np.concatenate([tau, h * np.arange(1, extra + 1) / (extra + 1)]))
         gaps = np.diff(np.concatenate([tau, [settings.gait.period / 2]]))
         weights = 0.5 * (gaps + np.roll(gaps, 1))
-    ds = tau <= settings.gait.double_support + 1e-9
+    td = settings.gait.double_support
+    ds = tau <= td + 1e-9
+    checks = _check_times(tau[ds], td, settings.solver.contact_checks)
+    check = None
+    if checks.size:
+        weights = np.full(tau.size, h) if weights is None else weights
+        weights = np.concatenate([weights, np.zeros(checks.size)])
+        check = np.arange(tau.size + checks.size) >= tau.size
+        tau = np.concatenate([tau, checks])
+        ds = np.concatenate([ds, np.ones(checks.size, dtype=bool)])
     half = settings.gait.stride_length / 2
     return Schedule(
         times=ph.heel_strike_r + tau,
@@ -80,22 +102,32 @@ def schedule(settings: PredictionSettings) -> Schedule:
         anchor_other_x=np.where(ds, -half, half),
         step=h,
         weights=weights,
+        check=check,
     )
+
+
+def _check_times(tau_ds: np.ndarray, td: float, per_interval: int) -> np.ndarray:
+    """``per_interval`` instants evenly inside each interval between the double-support node
+    times ``tau_ds`` (s after heel strike) and from the last of them to toe off ``td``."""
+    ends = np.concatenate([tau_ds, [td]]) if td - tau_ds[-1] > 1e-9 else tau_ds
+    frac = np.arange(1, per_interval + 1) / (per_interval + 1)
+    return (ends[:-1, None] + frac[None, :] * np.diff(ends)[:, None]).ravel()
 
 
 def free_schedule(settings: PredictionSettings) -> Schedule:
     """The phase-following grid of :mod:`walk3d.problem.descriptors` at the settings' T and
     Td (with a free descriptor they are the first guess)."""
     g = settings.gait
-    grid = descriptors.free_grid(settings.solver.nodes, ramp=settings.model.load_ramp)
+    grid = descriptors.grid_for(settings.solver, ramp=settings.model.load_ramp)
     t_hs = GaitPhases(g.period, g.double_support).heel_strike_r
     ds = grid.double_support
     return Schedule(
         times=t_hs + np.array(grid.tau(g.period, g.double_support)),
         double_support=ds, swing=~ds, decay=grid.decay,
         anchor_other_x=grid.anchor_sign * g.stride_length / 2,
-        step=g.period / (2 * grid.n),
+        step=g.period / (2 * (grid.n - grid.n_checks)),
         weights=np.array(grid.weights(g.period, g.double_support)),
+        check=grid.check if grid.n_checks else None,
     )  # fmt: skip
 
 
@@ -135,7 +167,7 @@ def loop_check_times(settings: PredictionSettings, sch: Schedule) -> np.ndarray:
     nodes, and the trailing foot's toe-off (``loop_check_toe_off``) when no node sits there.
     The loop holds exactly at the nodes; between nodes it drifted by < 0.3 mm, but in the gap
     between the last double-support node and toe-off by up to 10 mm."""
-    ds = np.flatnonzero(sch.double_support)
+    ds = np.flatnonzero(sch.double_support & ~sch.checks)
     m = settings.solver.loop_checks
     frac = np.arange(1, m + 1) / (m + 1)
     gap = np.diff(sch.times)

@@ -83,6 +83,9 @@ class SolverSettings(SettingsGroup):
     heel_strike_nodes: int = 0
     """Extra nodes inside the first interval after heel strike (:mod:`walk3d.problem.schedule`
     says why), where the leading foot's load starts."""
+    contact_checks: int = 0
+    """Instants inside each double-support interval at which the node rows hold too, as
+    nodes of zero weight (:mod:`walk3d.problem.schedule` says why)."""
     derivatives: Literal["structured", "casadi"] = "structured"
     """Exact derivatives assembled from per-node blocks (:mod:`walk3d.problem.derivatives`,
     several times cheaper) or CasADi's sweeps through the whole NLP (same values)."""
@@ -163,6 +166,8 @@ class SolverSettings(SettingsGroup):
             (0 <= self.heel_strike_nodes <= 8,
              f"heel_strike_nodes must be in [0, 8], got {self.heel_strike_nodes}"),
             (0 <= self.loop_checks <= 4, f"loop checks must be in [0, 4], got {self.loop_checks}"),
+            (0 <= self.contact_checks <= 4,
+             f"contact checks must be in [0, 4], got {self.contact_checks}"),
             (0 < self.loop_check_tolerance <= 0.05,
              f"loop check tolerance must be in (0, 0.05], got {self.loop_check_tolerance}"),
             (1 <= self.threads <= 64, f"threads must be in [1, 64], got {self.threads}"),

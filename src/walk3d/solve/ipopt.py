@@ -106,7 +106,7 @@ def lifted_z(solver: Solver, x: np.ndarray, s0: tuple[float, ...] | None = None)
     if lay.n_s and s0 is not None:
         b = solver.nlp_bounds("free")
         s = np.clip(s0[: lay.n_s], b.lbz[lay.z("s")], b.ubz[lay.z("s")])
-        grid = descriptors.free_grid(solver.settings.solver.nodes)
+        grid = descriptors.grid_for(solver.settings.solver)
         z[lay.z("y")] = np.array(descriptors.lift_function(grid)(x, s)).ravel()
     else:
         z[lay.z("y")] = np.einsum("kij,j->ki", solver.lift, x).ravel()
@@ -139,6 +139,7 @@ def full_stage_start(solver: Solver, z: np.ndarray) -> np.ndarray:
     node = node_rows(z)
     u = np.maximum(-node[:, rows["slack_pos"]], -node[:, rows["slack_neg"]])
     if solver.settings.model.absolute == "slack":
+        u[solver.schedule.checks] = -SLACK_MARGIN  # a contact check's slacks are fixed at 0
         z[t] = (u + SLACK_MARGIN).ravel()
     return z
 
@@ -202,7 +203,7 @@ def _reject_crouch(solver: Solver, z: np.ndarray, record: dict, note) -> None:
     tau = solver.schedule.times - phases.heel_strike_r
     if lay.n_s:  # the phase-following grid at the solved T and Td
         phases = GaitPhases(*map(float, np.asarray(z)[lay.z("s")]))
-        grid = descriptors.free_grid(solver.settings.solver.nodes)
+        grid = descriptors.grid_for(solver.settings.solver)
         tau = np.array(grid.tau(phases.period, phases.double_support), dtype=float)
     hip = upright.midstance_hip_flexion_deg(z, lay, tau, phases)
     if crouch.upright(hip):
