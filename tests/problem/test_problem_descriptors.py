@@ -83,8 +83,11 @@ def _point(prob, seed=3):
 @pytest.mark.model
 @pytest.mark.parametrize(
     ("dynamics", "balance", "criterion", "checks"),
-    [(True, True, "tor=1,jerk=0.5,impact=2,arms=1", 0), (True, True, "en", 1),
-     (False, True, "tor", 0)],
+    [
+        (True, True, "tor=1,jerk=0.5,impact=2,arms=1", 0),
+        (True, True, "en", 1),
+        (False, True, "tor", 0),
+    ],
 )
 def test_structured_derivatives_in_s_equal_casadi(dynamics, balance, criterion, checks):
     s = _free(criterion=criterion, contact_checks=checks)
