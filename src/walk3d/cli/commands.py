@@ -360,7 +360,7 @@ def compile_model(
     cache. Later predictions and campaigns with the same sex, criterion and calibration use
     them, at any body mass, stature, speed, period and double support (about twice as fast a
     solve). Takes minutes once; needs a C compiler ($CC or cc). Exit code 2 without a compiler
-    or for bad input."""
+    or for bad input, 3 if the model cache cannot be written (a full disk)."""
     settings = settings_from_options(
         criterion, "ipopt", 0, **gait_fields(speed, period, double_support, height),
         mass=mass, height=height, sex=sex, nodes=nodes, handover=handover,
