@@ -61,13 +61,14 @@ def test_compile_with_room_compiles(small, capsys):
 
 
 def test_a_compiler_that_runs_out_of_space_is_exit_3(small, capsys, monkeypatch):
-    """The compiler's own "No space left on device" is the disk, not bad input (exit 2)."""
+    """The linker's "No space left on device" is the disk, not bad input (exit 2); its last
+    line only said that it failed."""
     cc = small / "cc"
-    cc.write_text("#!/bin/sh\necho 'cc1: fatal error: lib.so: No space left on device' >&2\n"
-                  "exit 1\n")  # fmt: skip
+    cc.write_text("#!/bin/sh\necho '/usr/bin/ld: final link failed: No space left on device' >&2"
+                  "\necho 'collect2: error: ld returned 1 exit status' >&2\nexit 1\n")  # fmt: skip
     cc.chmod(0o755)
     monkeypatch.setenv("CC", str(cc))
-    _one_line_exit_3(cli(capsys, "compile"), "No space left on device")
+    _one_line_exit_3(cli(capsys, "compile"), "final link failed: No space left on device")
 
 
 def test_compile_with_a_lock_that_is_a_folder_exits_3_with_one_line(small, capsys):

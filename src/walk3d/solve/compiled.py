@@ -26,6 +26,7 @@ Without a compiler the solver keeps CasADi's virtual machine (same results).
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import logging
 import os
@@ -177,7 +178,8 @@ def build_library(
     compiler its language: ``.c``, ``.s``): ``cc *before -shared SOURCE -o LIB *after`` in a
     temporary folder next to ``path``, then moved into place (atomic) after its SHA-256
     (:func:`digest_path`). Raises :class:`CompileError` with the compiler's last line of output
-    if it fails."""
+    (or its line that reports a full disk: ``ld``'s last line only says that it failed) if it
+    fails."""
     path.parent.mkdir(parents=True, exist_ok=True)
     prefix = f"{BUILD_PREFIX}{os.getpid()}-"  # whose it is: :func:`leftover_builds`
     with tempfile.TemporaryDirectory(dir=path.parent, prefix=prefix) as tmp:
@@ -185,8 +187,10 @@ def build_library(
         src.write_text(source, encoding="utf-8")
         cmd = [*cc, *before, "-shared", str(src), "-o", str(lib), *after]
         run = subprocess.run(cmd, capture_output=True, text=True, check=False)
-        if run.returncode != 0:
-            tail = run.stderr.strip().splitlines()[-1:] or ["no output"]
+        if run.returncode != 0:  # the last line, or the one that says the disk is full
+            lines = run.stderr.strip().splitlines()
+            full = [ln for ln in lines if os.strerror(errno.ENOSPC) in ln]
+            tail = (full or lines)[-1:] or ["no output"]
             raise CompileError(f"{shlex.join(cmd[:1])} failed on {Path(name).stem}: {tail[0]}")
         # the digest first: until the library is in place, a reader finds a mismatch, not a
         # library without its digest's protection
