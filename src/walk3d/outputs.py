@@ -23,7 +23,8 @@ from walk3d.io.atomic import TMP_PREFIX, fsync_dir, temporary_sibling
 from walk3d.io.errors import OutputWriteError
 
 __all__ = ["NAME_MAX_BYTES", "TEMPORARY_BYTES", "check_folder_of_folders", "check_output_file",
-           "check_output_folder", "foreign_files", "replace_files", "write_errors"]  # fmt: skip
+           "check_output_folder", "foreign_files", "new_folder", "replace_files",
+           "write_errors"]  # fmt: skip
 
 _ATOMIC_TEMPORARY = re.compile(r"^\..+\.[0-9a-f]{12}\.\w+$")
 """The name of :func:`~walk3d.io.atomic.atomic_write`'s temporary file (``.name.<hex>.tmp``)."""
@@ -206,3 +207,25 @@ def replace_files(folder: str | PathLike[str], last: str | None = None) -> Itera
         fsync_dir(target)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+@contextmanager
+def new_folder(folder: str | PathLike[str], own: Collection[str]) -> Iterator[Path]:
+    """For a block that writes the files ``own`` into ``folder``: if it fails, the folders it
+    created on the way (``folder`` and missing parents) are removed again with those files in
+    them, so that a failed command leaves no half-written folder. A folder that existed before,
+    and any file but ``own``, is never touched; a folder holding another file stays."""
+    target = Path(folder)
+    missing = [p for p in (target, *target.parents) if not p.exists()]
+    try:
+        yield target
+    except BaseException:
+        if missing:
+            for name in own:
+                (target / name).unlink(missing_ok=True)
+            for path in missing:  # the deepest first
+                try:
+                    path.rmdir()
+                except OSError:
+                    break
+        raise

@@ -1,9 +1,12 @@
 """walk3d predict's background compile (walk3d.cli.background): when it starts, when it does not,
 the lock, and what the background process leaves behind."""
 
+import contextlib
 import os
+import signal
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -114,6 +117,7 @@ def test_the_background_process_records_a_failure_and_deletes_its_job(tmp_path, 
     r, p = _run_job(tmp_path, "{not settings")
     assert r.returncode == 1 and "Traceback" not in r.stdout + r.stderr
     assert "failed" in r.stdout and p["failed"].read_text().startswith("ValidationError")
+    assert len(p["failed"].read_text().splitlines()) == 1  # pydantic's message had 3 lines
     assert not p["json"].exists() and not background.running(background.lock_path())
 
 
@@ -127,3 +131,175 @@ def test_the_background_process_leaves_a_held_lock_alone(tmp_path, monkeypatch):
         holder.wait()
     assert r.returncode == 0 and "another process" in r.stdout
     assert not p["json"].exists() and not p["failed"].exists()
+
+
+FAKE_CC = """#!/bin/sh
+# a compiler that never ends: itself and a child (as gcc runs cc1), their pids recorded
+echo $$ >> "$WALK3D_TEST_PIDS"
+sleep 300 &
+echo $! >> "$WALK3D_TEST_PIDS"
+wait
+"""
+FAKE_COMPILE = """
+import sys
+from pathlib import Path
+
+import casadi as ca
+
+import walk3d.solve.solver as solver
+from walk3d.cli import background
+from walk3d.solve import compiled
+
+
+def compile_solver(settings, on_done=None, jobs=None):
+    x = ca.SX.sym("x")
+    fns = {name: ca.Function(name, [x], [k * x]) for k, name in enumerate(("f", "g"), 1)}
+    compiled.compile_functions("fake", fns, jobs=2)  # two compilers at once, as JOBS
+    return {"compiled": 2, "wall_time_s": 0.0}
+
+
+solver.compile_solver = compile_solver
+if sys.argv[1] == "background":
+    sys.exit(background.run(sys.argv[2], Path(sys.argv[3])))
+compile_solver(None)  # the compile alone, no background process around it
+"""
+
+
+def _state(pid: int) -> str | None:
+    """The process's state letter (R, S, Z...), None when it is gone."""
+    try:
+        stat = open(f"/proc/{pid}/stat").read()
+    except FileNotFoundError:
+        return None
+    except OSError:  # no /proc: signal 0 tells whether it exists
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return None
+        return "?"
+    return stat.rsplit(")", 1)[1].split()[0]
+
+
+def _alive(pids) -> list[int]:
+    return [p for p in pids if _state(p) not in (None, "Z")]
+
+
+def _fake_compile(tmp_path, *args):
+    """A process running :data:`FAKE_COMPILE` (its own session, as :func:`background._spawn`
+    starts it) once both compilers and their children run; their four pids."""
+    cc, pids = tmp_path / "cc", tmp_path / "pids"
+    cc.write_text(FAKE_CC)
+    cc.chmod(0o755)
+    env = os.environ | {"WALK3D_CACHE_DIR": str(tmp_path), "CC": str(cc),
+                        "WALK3D_TEST_PIDS": str(pids)}  # fmt: skip
+    log = open(tmp_path / "log", "wb")
+    proc = subprocess.Popen([sys.executable, "-c", FAKE_COMPILE, *args], env=env, stdout=log,
+                            stderr=subprocess.STDOUT, start_new_session=True)  # fmt: skip
+    for _ in range(600):
+        found = [int(s) for s in pids.read_text().split()] if pids.exists() else []
+        if len(found) == 4 or proc.poll() is not None:
+            break
+        time.sleep(0.1)
+    assert len(found) == 4, (tmp_path / "log").read_text()
+    return proc, found
+
+
+def _wait_gone(pids, seconds: float = 10.0) -> list[int]:
+    for _ in range(int(seconds * 10)):
+        if not _alive(pids):
+            break
+        time.sleep(0.1)
+    return _alive(pids)
+
+
+def _end(proc, pids) -> None:
+    """Teardown: the processes this test started, by their ids."""
+    for pid in [proc.pid, *_alive(pids)]:
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(pid, signal.SIGKILL)
+    proc.wait()
+
+
+@pytest.mark.skipif(not background.POSIX, reason="process groups are POSIX")
+@pytest.mark.parametrize("how", ["kill-9", "kill-9-group", "sigterm"])
+def test_the_compilers_die_with_the_background_process(tmp_path, monkeypatch, how):
+    """kill -9 of the compiling process left its two compilers running, orphaned (3.6 GB and
+    1.6 GB); the fake compilers here sleep, each with a child as gcc has cc1. The failure
+    marker says it was killed."""
+    monkeypatch.setenv("WALK3D_CACHE_DIR", str(tmp_path))
+    job = tmp_path / "compile-0123456789abcdef-test.json"
+    job.write_text(SETTINGS.model_dump_json())
+    proc, pids = _fake_compile(tmp_path, "background", "0123456789abcdef", str(job))
+    try:
+        if how == "kill-9-group":
+            os.killpg(proc.pid, signal.SIGKILL)
+        else:
+            os.kill(proc.pid, signal.SIGTERM if how == "sigterm" else signal.SIGKILL)
+        proc.wait(timeout=30)
+        assert _wait_gone(pids) == [], (tmp_path / "log").read_text()
+    finally:
+        _end(proc, pids)
+    if how != "kill-9-group":  # the guard, in the group, is killed with it
+        lines = background.paths("0123456789abcdef")["failed"].read_text().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("Killed:"), lines  # no background retry
+    assert "Traceback" not in (tmp_path / "log").read_text()
+
+
+@pytest.mark.skipif(not background.POSIX, reason="process groups are POSIX")
+def test_compilers_of_a_compile_outside_the_background_process_outlive_a_kill(tmp_path):
+    """Negative control: the same compile killed without the background process around it
+    leaves its compilers running, as the background process did, so the check above can fail."""
+    proc, pids = _fake_compile(tmp_path, "alone")
+    try:
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=30)
+        time.sleep(1.0)
+        assert len(_alive(pids)) == 4
+    finally:
+        _end(proc, pids)
+
+
+def test_a_compile_lock_that_is_a_folder_is_a_one_line_failure_marker(tmp_path, spawned):
+    """The process died with a traceback in its log and left no marker, so every later
+    prediction started it again."""
+    background.lock_path().mkdir()
+    r, p = _run_job(tmp_path, SETTINGS.model_dump_json(), background.target_id(SETTINGS))
+    assert r.returncode == 1 and "Traceback" not in r.stdout + r.stderr, r.stdout + r.stderr
+    lines = p["failed"].read_text().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("IsADirectoryError"), lines
+    assert not p["json"].exists()
+    assert "failed" in background.start(SETTINGS, []) and spawned == []  # no retry
+
+
+def _build_folder(cache, name: str) -> object:
+    folder = cache / name
+    folder.mkdir()
+    (folder / "walk3d_full_hess_1.c").write_bytes(b"x" * 100_000)
+    return folder
+
+
+def test_the_next_compile_start_removes_the_build_folders_of_ended_compiles(tmp_path, monkeypatch):
+    """A killed compile left 68 MB of .build-* folders that nothing removed. A folder of a
+    running build (its pid alive, here this test's) stays."""
+    monkeypatch.setenv("WALK3D_CACHE_DIR", str(tmp_path))
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True, check=True)  # fmt: skip
+    left = [_build_folder(tmp_path, f".build-{dead.stdout.strip()}-abc"),
+            _build_folder(tmp_path, ".build-xyz")]  # fmt: skip
+    running = _build_folder(tmp_path, f".build-{os.getpid()}-def")
+    r, _ = _run_job(tmp_path, "{not settings")
+    assert "removed 2 build folders of an ended compile, 0.2 MB" in r.stdout, r.stdout
+    assert not any(f.exists() for f in left) and running.is_dir()
+
+
+def test_build_folders_stay_while_another_process_holds_the_lock(tmp_path, monkeypatch):
+    """Negative control: a compile on another machine sharing the folder holds the lock."""
+    monkeypatch.setenv("WALK3D_CACHE_DIR", str(tmp_path))
+    folder = _build_folder(tmp_path, ".build-xyz")
+    holder = _holder(background.lock_path())
+    try:
+        r, _ = _run_job(tmp_path, "{not settings", "fedcba9876543210")
+    finally:
+        holder.kill()
+        holder.wait()
+    assert r.returncode == 0 and "another process" in r.stdout and folder.is_dir()

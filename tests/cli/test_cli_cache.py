@@ -16,22 +16,22 @@ def test_cache_lists_and_clears_only_finished_entries(tmp_path):
                tmp_path / "lib-k1-walk3d_full_jac_0.so", tmp_path / "blas-k2.so"]  # fmt: skip
     for i, path in enumerate(entries):
         path.write_bytes(b"x" * 1000 * (i + 1))
-    # a compile and a write in progress, and a file that is not walk3d's
-    (tmp_path / ".build-xyz").mkdir()
-    (tmp_path / ".build-xyz" / "walk3d_full_hess_1.c").write_text("int f;")
+    # a write in progress, a file that is not walk3d's, and a running build (its pid this test's)
     others = [tmp_path / ".model-def.casadi.0a1b.tmp", tmp_path / "notes.txt"]
     for path in others:
         path.write_text("keep")
+    running = _build_folder(tmp_path, f".build-{os.getpid()}-abc", 1000)
     r = _cache(tmp_path)
     assert r.returncode == 0, r.stderr
     assert str(tmp_path) in r.stdout
     assert "1 model entries, 2 compiled libraries, 1 BLAS bridges, 0.0 MB" in r.stdout
+    assert "1 build folders of a build in progress, 0.0 MB" in r.stdout
     assert all(p.exists() for p in entries)  # listing deletes nothing
     r = _cache(tmp_path, "--clear")
     assert r.returncode == 0, r.stderr
     assert "deleted 4 files" in r.stdout
     assert not any(p.exists() for p in entries)
-    assert all(p.exists() for p in others) and (tmp_path / ".build-xyz").is_dir()
+    assert all(p.exists() for p in others) and running.is_dir()
     r = _cache(tmp_path)
     assert "0 model entries, 0 compiled libraries" in r.stdout
 
@@ -41,3 +41,64 @@ def test_cache_of_a_missing_folder_is_empty(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "0 model entries, 0 compiled libraries" in r.stdout and "deleted 0 files" in r.stdout
     assert not (tmp_path / "none").exists()
+
+
+def _build_folder(cache, name: str, size: int):
+    folder = cache / name
+    folder.mkdir()
+    (folder / "walk3d_full_hess_1.c").write_bytes(b"x" * size)
+    return folder
+
+
+def test_cache_reports_and_clears_the_build_folders_of_ended_compiles(tmp_path):
+    """A killed compile left 68 MB of .build-* folders that --clear neither reported nor
+    removed."""
+    left = [_build_folder(tmp_path, ".build-xyz", 2_000_000),
+            _build_folder(tmp_path, ".build-999999999-abc", 1_000_000)]  # fmt: skip
+    r = _cache(tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert "2 build folders left by ended compiles, 3.0 MB (--clear removes them)" in r.stdout
+    assert all(f.is_dir() for f in left)
+    r = _cache(tmp_path, "--clear")
+    assert r.returncode == 0, r.stderr
+    assert "deleted 0 files, 0.0 MB, and 2 build folders of ended compiles, 3.0 MB" in r.stdout
+    assert not any(f.exists() for f in left)
+    assert "build folders" not in _cache(tmp_path).stdout
+
+
+HOLD = """
+import sys, time
+from pathlib import Path
+from walk3d.cli.background import hold
+with hold(Path(sys.argv[1]), wait=False) as held:
+    print(held, flush=True)
+    time.sleep(60)
+"""
+
+
+def test_cache_clear_keeps_the_build_folders_while_a_compile_holds_the_lock(tmp_path):
+    """Negative control: the folders of a compile on another machine sharing the cache (its
+    pid unknown here) stay while it runs, and go once it has ended."""
+    folder = _build_folder(tmp_path, ".build-999999999-abc", 1_000_000)
+    holder = subprocess.Popen([sys.executable, "-c", HOLD, str(tmp_path / "compile.lock")],
+                              stdout=subprocess.PIPE, text=True)  # fmt: skip
+    try:
+        assert holder.stdout.readline().strip() == "True"
+        r = _cache(tmp_path, "--clear")
+    finally:
+        holder.kill()
+        holder.wait()
+    assert r.returncode == 0, r.stderr
+    assert "1 build folders of a compile in progress, 1.0 MB (kept)" in r.stdout
+    assert "deleted 0 files, 0.0 MB\n" in r.stdout and folder.is_dir()
+    assert "1 build folders of ended compiles" in _cache(tmp_path, "--clear").stdout
+    assert not folder.exists()
+
+
+def test_cache_clear_with_a_lock_that_is_a_folder_is_one_line(tmp_path):
+    """The lock cannot be taken: the build folders stay, with a line that says why."""
+    folder = _build_folder(tmp_path, ".build-xyz", 1000)
+    (tmp_path / "compile.lock").mkdir()
+    r = _cache(tmp_path, "--clear")
+    assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
+    assert "build folders kept: the compile lock" in r.stdout and folder.is_dir()

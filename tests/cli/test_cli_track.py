@@ -2,6 +2,8 @@
 (each with its control); the tracking of the shared Falisse trial (solve-marked)."""
 
 import json
+import os
+import stat
 import time
 
 import numpy as np
@@ -34,6 +36,50 @@ def test_track_needs_one_measured_gait(capsys, tmp_path):
 def test_the_track_term_needs_a_tracking(capsys, tmp_path):
     one_line_error(cli(capsys, "predict", "--criterion", "natural,track=1", "--out",
                        tmp_path / "p"), "track")  # fmt: skip
+
+
+class Audited(Exception):
+    """walk3d.tracking.audit was reached: the command accepted its input."""
+
+
+def _audit_reached(monkeypatch) -> None:
+    import walk3d.tracking as tracking
+
+    def audit(*args, **kwargs):
+        raise Audited
+
+    monkeypatch.setattr(tracking, "audit", audit)
+
+
+@pytest.mark.parametrize(
+    ("name", "words"),
+    [("fifo.json", "not a regular file"), ("folder.json", "is a folder"),
+     ("x\udcff.json", "not valid UTF-8"), ("file/a.json", "is a file"),
+     ("a" * 300 + ".json", "bytes long"), ("a.txt", "must name a .json file")],
+    ids=["fifo", "folder", "byte-ff", "under-a-file", "300-bytes", "suffix"],
+)  # fmt: skip
+def test_audit_refuses_an_out_that_is_not_a_writable_json_file_before_the_audit(
+    capsys, tmp_path, monkeypatch, name, words
+):
+    """--out was checked for its suffix only: a FIFO, a folder or a non-UTF-8 name failed after
+    the audit (exit 3), the shared check of the other commands' --out was not made."""
+    _audit_reached(monkeypatch)
+    os.mkfifo(tmp_path / "fifo.json")
+    (tmp_path / "folder.json").mkdir()
+    (tmp_path / "file").write_text("mine")
+    one_line_error(cli(capsys, "audit", tmp_path / "t", tmp_path / "p", "--out", tmp_path / name),
+                   "--out", words)  # fmt: skip
+    assert stat.S_ISFIFO(os.stat(tmp_path / "fifo.json").st_mode)
+    assert (tmp_path / "file").read_text() == "mine"
+
+
+def test_audit_with_a_writable_out_reaches_the_audit(capsys, tmp_path, monkeypatch):
+    """Negative control: a new .json file, and an earlier one to replace."""
+    _audit_reached(monkeypatch)
+    (tmp_path / "old.json").write_text("{}")
+    for name in ("new.json", "old.json"):
+        with pytest.raises(Audited):
+            cli(capsys, "audit", tmp_path / "t", tmp_path / "p", "--out", tmp_path / name)
 
 
 @needs_data

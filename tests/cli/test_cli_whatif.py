@@ -87,3 +87,19 @@ def test_a_single_what_if_spec_is_accepted(capsys, tmp_path, solve):
     """Negative control: one --strength list, as before."""
     changes = _accepted(capsys, tmp_path, solve, "--strength", "ankle=0.5,knee=0.8")
     assert sorted(changes.strength) == [("ankle", 0.5), ("knee", 0.8)]
+
+
+@pytest.mark.parametrize("values", [("-0.01", "-0.02"), ("-0.02", "-0.02")], ids=["two", "same"])
+def test_a_repeated_leg_length_difference_is_refused_before_any_solve(capsys, tmp_path, solve,
+                                                                      values):  # fmt: skip
+    """One number cannot merge: the second --leg-length-difference replaced the first."""
+    args = [a for v in values for a in ("--leg-length-difference", v)]
+    one_line_error(cli(capsys, "predict", "--out", tmp_path / "o", *args),
+                   "--leg-length-difference", "once")  # fmt: skip
+    assert not solve and not (tmp_path / "o").exists()
+
+
+def test_a_single_leg_length_difference_is_accepted(capsys, tmp_path, solve):
+    """Negative control: given once, the right shank changes by that much."""
+    changes = _accepted(capsys, tmp_path, solve, "--leg-length-difference", "-0.02")
+    assert list(changes.shank_length) == [("shank_r", -0.02)]

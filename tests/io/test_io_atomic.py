@@ -44,3 +44,29 @@ def test_output_options_refuse_a_fifo_before_any_work(fifo, capsys):
                        fifo), "pipe.json", "not a regular file")  # fmt: skip
     assert stat.S_ISFIFO(os.stat(fifo).st_mode)
     check_output_file(fifo.with_name("new.json"))  # control: a new file is fine
+
+
+def test_new_folder_removes_only_the_folders_it_made_and_its_own_files(tmp_path):
+    """A failed block: the new folders go with walk3d's files; a user's file keeps its folder,
+    and an existing folder is never removed."""
+    from walk3d.outputs import new_folder
+
+    out = tmp_path / "new" / "deeper" / "cmp"
+    with pytest.raises(OSError), new_folder(out, ["a.csv"]) as folder:
+        folder.mkdir(parents=True)
+        (folder / "a.csv").write_text("half")
+        raise OSError("disk full")
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(OSError), new_folder(out, ["a.csv"]) as folder:
+        folder.mkdir(parents=True)
+        (folder / "a.csv").write_text("half")
+        (folder.parent / "mine.txt").write_text("the user's")
+        raise OSError("disk full")
+    assert list(out.parent.iterdir()) == [out.parent / "mine.txt"]  # cmp went, "deeper" stays
+    with pytest.raises(OSError), new_folder(out.parent, ["mine.txt"]):
+        raise OSError("disk full")  # existing: kept, its file too
+    assert (out.parent / "mine.txt").read_text() == "the user's"
+    with new_folder(out, ["a.csv"]) as folder:  # control: a block that succeeds keeps all
+        folder.mkdir()
+        (folder / "a.csv").write_text("whole")
+    assert (out / "a.csv").read_text() == "whole"

@@ -106,3 +106,43 @@ def test_cli_writes_the_table_and_figure_and_refuses_a_non_result(pred, tmp_path
                          text=True, timeout=120)  # fmt: skip
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1, bad.stderr
     assert "Traceback" not in bad.stderr
+
+
+def _compare_cli(capsys, a, b, out) -> tuple[int, str]:
+    from walk3d.cli import main
+
+    with pytest.raises(SystemExit) as info:
+        main(["compare", str(a), str(b), "--out", str(out)])
+    return info.value.code, capsys.readouterr().err
+
+
+def test_compare_on_a_full_disk_exits_3_and_removes_only_what_it_created(pred, tmp_path, capsys,
+                                                                          monkeypatch):  # fmt: skip
+    """The half-written folder (compare.csv without the figure and page) was left behind. A
+    new folder and the new folders above it go; an earlier comparison and a user's empty
+    folder stay as they were. The full disk is an ENOSPC from the second file's sync."""
+    from disk_support import full_disk, snapshot
+
+    import walk3d
+
+    a, b = tmp_path / "a", tmp_path / "b"
+    walk3d.Prediction.of(pred).save(a, figure=False, report=False)
+    walk3d.Prediction.of(pred).save(b, figure=False, report=False)
+    earlier, empty = tmp_path / "earlier", tmp_path / "empty"
+    assert _compare_cli(capsys, a, b, earlier)[0] == 0
+    empty.mkdir()
+    before = {"earlier": snapshot(earlier), "top": sorted(p.name for p in tmp_path.iterdir())}
+    for out in (tmp_path / "new" / "deeper" / "cmp", earlier, empty):
+        synced = full_disk(monkeypatch, after=1)
+        code, err = _compare_cli(capsys, a, b, out)
+        monkeypatch.undo()
+        lines = err.strip().splitlines()
+        assert code == 3 and len(lines) == 1 and "Traceback" not in err, err
+        assert lines[0] == f"walk3d: error: could not write {out}: no space left on device"
+        assert len(synced) == 1  # control: compare.csv was written before the disk filled up
+    assert sorted(p.name for p in tmp_path.iterdir()) == before["top"]  # no "new", no temporary
+    assert snapshot(earlier) == before["earlier"] and list(empty.iterdir()) == []
+    # control: with room, the new folder is written
+    assert _compare_cli(capsys, a, b, tmp_path / "new" / "deeper" / "cmp")[0] == 0
+    assert sorted(p.name for p in (tmp_path / "new" / "deeper" / "cmp").iterdir()) == [
+        "compare.csv", "compare.png", "report.html"]  # fmt: skip

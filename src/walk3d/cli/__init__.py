@@ -1,7 +1,7 @@
 """The ``walk3d`` command line (Typer + Rich).
 
 Bad input gives one clear error line on stderr and exit code 2. Commands live in
-:mod:`walk3d.cli.commands` (body, predict, compile, cache),
+:mod:`walk3d.cli.commands` (body, predict, compile), :mod:`walk3d.cli.cache_command`,
 :mod:`walk3d.cli.atlas_command`, :mod:`walk3d.cli.campaign_command`,
 :mod:`walk3d.cli.sweep_command`,
 :mod:`walk3d.cli.validation` (validate, calibrate), :mod:`walk3d.cli.verify_command` and
@@ -21,6 +21,7 @@ import typer
 from walk3d.cli import (  # noqa: F401  (register the commands)
     animate_command,
     atlas_command,
+    cache_command,
     campaign_command,
     commands,
     compare_command,

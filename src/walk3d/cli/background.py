@@ -12,12 +12,20 @@ Files in the model cache folder: ``compile.lock``, which the compiling process h
 OS file lock (released by the OS however the process ends; ``walk3d compile`` holds it too),
 so one compile runs at a time; per start, ``compile-<id>-<token>.json`` (the settings, deleted
 by its process); per compile target (:func:`target_id`), ``compile-<id>.log`` (the output) and
-``compile-<id>.failed`` (the error of a failed compile: no background compile of that target
-starts again until ``walk3d compile`` succeeds, which deletes every such file).
+``compile-<id>.failed`` (the error of a failed compile, whatever failed, one line: no background
+compile of that target starts again until ``walk3d compile`` succeeds, which deletes every such
+file).
+
+The compiling process leads its own process group, and its compilers (and theirs: gcc's
+``cc1``) run in it. A guard process in the group (:func:`_group_guard`) ends the group when
+the compiling process dies without saying it is done (``kill -9``, SIGTERM, out of memory),
+and writes the failure marker. Build folders left by a killed compile are removed when the
+next compile starts (:func:`walk3d.solve.compiled.remove_leftover_builds`).
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -86,8 +94,9 @@ def hold(lock: Path, wait: bool) -> Iterator[bool]:
         except BlockingIOError:
             yield False
             return
-        os.ftruncate(fd, 0)
-        os.write(fd, str(os.getpid()).encode())  # for people: who holds it
+        with contextlib.suppress(OSError):  # for people: who holds it (not on a full disk)
+            os.ftruncate(fd, 0)
+            os.write(fd, str(os.getpid()).encode())
         yield True
     finally:
         os.close(fd)  # releases the lock
@@ -157,39 +166,108 @@ def _spawn(cmd: list[str], log: IO[bytes]) -> None:
 
 def run(key: str, job: Path) -> int:
     """The background process: compile the settings in ``job`` unless another process holds
-    the lock (module doc); deletes ``job`` either way. The exit code."""
-    if hasattr(os, "nice"):
-        os.nice(NICE)
+    the lock (module doc); deletes ``job`` either way. Every failure, the lock's included, is
+    one line in the failure marker and the log. The exit code."""
     p = paths(key)
-    with hold(lock_path(), wait=False) as held:
-        try:
+    try:
+        _lead_group()
+        if hasattr(os, "nice"):
+            os.nice(NICE)
+        with hold(lock_path(), wait=False) as held:
             if not held:
-                print(f"{time.ctime()}: another process compiles; {key} not started", flush=True)
+                _say(f"another process compiles; {key} not started")
                 return 0
             try:
                 text = job.read_text()
             except OSError:  # nothing to do
                 return 0
-            return _compile(key, text, p)
-        finally:
+            folders, size = compiled.remove_leftover_builds()
+            if folders:
+                _say(f"removed {folders} build folders of an ended compile, {size / 1e6:.1f} MB")
+            with _group_guard(p["failed"]):
+                return _compile(key, text)
+    except Exception as exc:  # noqa: BLE001 (recorded, so that no later prediction retries)
+        line = f"{type(exc).__name__}: {' '.join(str(exc).split())}"
+        _mark_failed(p["failed"], line)
+        _say(f"failed: {line}")
+        return 1
+    finally:
+        with contextlib.suppress(OSError):
             job.unlink(missing_ok=True)
 
 
-def _compile(key: str, text: str, p: dict[str, Path]) -> int:
+def _compile(key: str, text: str) -> int:
     t0 = time.perf_counter()
-    try:
-        settings = PredictionSettings.model_validate_json(text)
-        from walk3d.solve.solver import compile_solver
+    settings = PredictionSettings.model_validate_json(text)
+    from walk3d.solve.solver import compile_solver
 
-        print(f"{time.ctime()}: compiling {key} ({settings.gait.sex})", flush=True)
-        info = compile_solver(settings, jobs=JOBS)
-        print(f"{time.ctime()}: {info['compiled']} libraries in "
-              f"{time.perf_counter() - t0:.0f} s", flush=True)  # fmt: skip
-        return 0
-    except Exception as exc:  # noqa: BLE001 (recorded, so that no later prediction retries)
-        atomic_write_text(p["failed"], f"{type(exc).__name__}: {exc}\n")
-        print(f"{time.ctime()}: failed: {type(exc).__name__}: {exc}", flush=True)
-        return 1
+    _say(f"compiling {key} ({settings.gait.sex})")
+    info = compile_solver(settings, jobs=JOBS)
+    _say(f"{info['compiled']} libraries in {time.perf_counter() - t0:.0f} s")
+    return 0
+
+
+def _say(line: str) -> None:
+    """One timed line in the log (lost if the log cannot be written: a full disk)."""
+    with contextlib.suppress(OSError):
+        print(f"{time.ctime()}: {line}", flush=True)
+
+
+def _mark_failed(marker: Path, line: str) -> None:
+    """Write the failure marker ``marker``; on a full disk at least an empty one, which blocks
+    the retries as well."""
+    try:
+        atomic_write_text(marker, line + "\n")
+    except OSError:
+        with contextlib.suppress(OSError), open(marker, "a", encoding="utf-8") as f:
+            f.write(line + "\n")
+
+
+def _lead_group() -> None:
+    """Make this process its process group's leader (:func:`_spawn` starts it as one already),
+    so that the group holds this process and its children only."""
+    if os.getpgrp() != os.getpid():
+        os.setpgid(0, 0)
+
+
+_GUARD = """
+import os, signal, sys, time
+signal.signal(signal.SIGTERM, signal.SIG_IGN)
+if sys.stdin.buffer.read() != b"done":
+    line = "Killed: the compiling process was ended by a signal; its compilers with it"
+    try:
+        with open(sys.argv[1], "a", encoding="utf-8") as marker:
+            marker.write(line + "\\n")
+        print(f"{time.ctime()}: {line}", flush=True)
+    except OSError:
+        pass
+    os.killpg(os.getpgrp(), signal.SIGTERM)  # gcc removes its temporary files
+    time.sleep(2.0)
+    os.killpg(os.getpgrp(), signal.SIGKILL)
+"""
+"""The guard: it reads a pipe whose other end only the compiling process holds. An end without
+``done`` means that the process died (``kill -9``, SIGTERM, out of memory): the guard ends the
+process group, and writes the failure marker (argument 1)."""
+
+
+@contextmanager
+def _group_guard(marker: Path) -> Iterator[None]:
+    """For the block, a guard process in this process group (:data:`_GUARD`): should this
+    process die, however, the compilers in its group die too. The caller leads the group."""
+    read, write = os.pipe()  # not inherited by the compilers: only the guard reads it
+    try:
+        guard = subprocess.Popen([sys.executable, "-c", _GUARD, str(marker)], stdin=read,
+                                 stderr=subprocess.DEVNULL, close_fds=True)  # fmt: skip
+    finally:
+        os.close(read)
+    try:
+        yield
+    finally:
+        with contextlib.suppress(OSError):
+            os.write(write, b"done")
+        os.close(write)
+        with contextlib.suppress(subprocess.TimeoutExpired):
+            guard.wait(timeout=5)
 
 
 if __name__ == "__main__":

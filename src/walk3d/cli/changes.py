@@ -37,10 +37,10 @@ AddedMass = Annotated[
                  "foot=1 puts 1 kg on each foot, foot_r=1 on the right one." + REPEAT),
 ]  # fmt: skip
 LegLength = Annotated[
-    float | None,
+    list[float] | None,
     typer.Option("--leg-length-difference", metavar="M", rich_help_panel=CHANGES,
                  help="The right shank shorter (negative) or longer, m, e.g. -0.02 (one-sided: "
-                 "the full cycle is solved)."),
+                 "the full cycle is solved). Given once: one number cannot add up."),
 ]  # fmt: skip
 FullCycle = Annotated[
     bool,
@@ -101,15 +101,21 @@ def changes_option(
     limits: Specs,
     added_mass: Specs,
     full_cycle: bool = False,
-    leg_length: float | None = None,
+    leg_length: list[float] | float | None = None,
     equal_steps: bool = False,
 ) -> dict:
     """``{"changes": {...}, "full_cycle": True, "equal_steps": True}`` for the settings from the
-    options (each only when given; repeated options merge), or one error line and exit 2 for
-    one that does not parse (names and values are checked by the settings)."""
+    options (each only when given; repeated list options merge), or one error line and exit 2
+    for one that does not parse or a repeated ``--leg-length-difference`` (names and values are
+    checked by the settings)."""
     changes: dict[str, list] = {}
-    if leg_length:
-        changes["shank_length"] = [("shank_r", leg_length)]
+    lengths = leg_length if isinstance(leg_length, list) else [leg_length]
+    if len(lengths) > 1:
+        given = " and ".join(f"{v:g}" for v in lengths)
+        fail(f"--leg-length-difference is given {len(lengths)} times ({given}): it takes one "
+             "number, give it once")  # fmt: skip
+    if lengths and lengths[0]:
+        changes["shank_length"] = [("shank_r", lengths[0])]
     if rows := [(n, _number(v, "--strength", n)) for n, v in _items(strength, "--strength")]:
         changes["strength"] = _once(rows)
     if rows := [(n, _number(v, "--added-mass", n))

@@ -1,5 +1,4 @@
-"""``walk3d body``, ``walk3d predict``, ``walk3d compile``, ``walk3d cache`` and
-``walk3d campaign``."""
+"""``walk3d body``, ``walk3d predict`` and ``walk3d compile``."""
 
 from __future__ import annotations
 
@@ -361,7 +360,7 @@ def compile_model(
     cache. Later predictions and campaigns with the same sex, criterion and calibration use
     them, at any body mass, stature, speed, period and double support (about twice as fast a
     solve). Takes minutes once; needs a C compiler ($CC or cc). Exit code 2 without a compiler
-    or for bad input."""
+    or for bad input, 3 if the model cache cannot be written (a full disk)."""
     settings = settings_from_options(
         criterion, "ipopt", 0, **gait_fields(speed, period, double_support, height),
         mass=mass, height=height, sex=sex, nodes=nodes, handover=handover,
@@ -370,27 +369,3 @@ def compile_model(
     from walk3d.cli.compile import compile_with_progress
 
     compile_with_progress(settings, console)
-
-
-@app.command(name="cache", short_help="Show the model cache, or clear it.")
-def cache_info(
-    clear: Annotated[
-        bool,
-        typer.Option(
-            "--clear", help="Delete every cached model, compiled library and BLAS bridge."
-        ),
-    ] = False,
-) -> None:
-    """Show the model cache folder ($WALK3D_CACHE_DIR, else the user cache folder) and what it
-    holds; with --clear, delete its entries (always safe: they are rebuilt, or recompiled with
-    walk3d compile, when needed)."""
-    from walk3d.solve import model_cache
-
-    use = model_cache.cache_usage()
-    state = "" if model_cache.cache_enabled() else " (off: WALK3D_CACHE)"
-    console.print(f"walk3d cache: {model_cache.cache_dir()}{state}", markup=False, highlight=False)
-    console.print(f"{use['models']} model entries, {use['libraries']} compiled libraries, "
-                  f"{use['bridges']} BLAS bridges, {use['bytes'] / 1e6:.1f} MB")  # fmt: skip
-    if clear:
-        files, freed = model_cache.clear_entries()
-        console.print(f"deleted {files} files, {freed / 1e6:.1f} MB")

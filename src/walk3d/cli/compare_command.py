@@ -39,6 +39,7 @@ def compare(
     from walk3d.io.atomic import atomic_write_text
     from walk3d.io.errors import DataFileError, OutputWriteError
     from walk3d.io.tables import write_csv_table
+    from walk3d.outputs import new_folder, replace_files, write_errors
     from walk3d.plots.compare import compare_figure
     from walk3d.report.compare_page import compare_page
     from walk3d.results.compare import COLUMNS
@@ -72,14 +73,18 @@ def compare(
     console.print(t)
     if out is None:
         return
-    try:
-        folder = Path(out)
-        write_csv_table(folder / "compare.csv", COLUMNS, rows)
-        labels = (Path(dir_a).name, Path(dir_b).name)
-        compare_figure(*preds, folder / "compare.png", labels=labels)
-        page = compare_page(rows, (folder / "compare.png").read_bytes(), labels)
-        atomic_write_text(folder / "report.html", page)
-    except (OSError, OutputWriteError) as exc:
-        fail(f"cannot write {out}: {' '.join(str(exc).split())}", code=EXIT_WRITE)
+    folder, labels = Path(out), (Path(dir_a).name, Path(dir_b).name)
+    try:  # all three or none: built aside; a folder made for them goes again on failure
+        with (
+            write_errors(folder),
+            new_folder(folder, _WRITES),
+            replace_files(folder, last="report.html") as tmp,
+        ):
+            write_csv_table(tmp / "compare.csv", COLUMNS, rows)
+            compare_figure(*preds, tmp / "compare.png", labels=labels)
+            page = compare_page(rows, (tmp / "compare.png").read_bytes(), labels)
+            atomic_write_text(tmp / "report.html", page)
+    except OutputWriteError as exc:
+        fail(str(exc), code=EXIT_WRITE)
     console.print(f"wrote {folder / 'compare.csv'}, {folder / 'compare.png'} and "
                   f"{folder / 'report.html'}")  # fmt: skip

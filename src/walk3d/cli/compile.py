@@ -14,7 +14,7 @@ from contextlib import ExitStack
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-from walk3d.cli.common import fail
+from walk3d.cli.common import EXIT_WRITE, fail
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import compiled
 from walk3d.solve.solver import compile_solver, compiled_status
@@ -31,8 +31,10 @@ def worth_compiling(starts: int) -> bool:
 
 def compile_with_progress(settings: PredictionSettings, console: Console) -> None:
     """Compile (or find compiled) the derivatives of ``settings``, with a progress bar; a
-    missing or failing compiler ends the command with one line and exit code 2. Holds the
-    background compile's lock (:mod:`walk3d.cli.background`), waiting for a running one."""
+    missing or failing compiler ends the command with one line and exit code 2, a cache folder
+    that cannot be written (a full disk, a lock that is a folder) with one line and exit code
+    3. Holds the background compile's lock (:mod:`walk3d.cli.background`), waiting for a
+    running one, and first removes the build folders of ended compiles."""
     from walk3d.cli import background
 
     try:
@@ -40,14 +42,23 @@ def compile_with_progress(settings: PredictionSettings, console: Console) -> Non
     except compiled.CompileError as exc:
         fail(f"walk3d compile: {exc}")
     lock = background.lock_path()
-    with ExitStack() as stack:
-        if background.running(lock):
-            with console.status("walk3d compile: waiting for the background compile"):
+    try:
+        with ExitStack() as stack:
+            if background.running(lock):
+                with console.status("walk3d compile: waiting for the background compile"):
+                    stack.enter_context(background.hold(lock, wait=True))
+            else:
                 stack.enter_context(background.hold(lock, wait=True))
-        else:
-            stack.enter_context(background.hold(lock, wait=True))
-        info = _compile(settings, console)
-    background.clear_failed()
+            folders, size = compiled.remove_leftover_builds()
+            if folders:
+                console.print(f"walk3d compile: removed {folders} build folders of an ended "
+                              f"compile, {size / 1e6:.1f} MB")  # fmt: skip
+            info = _compile(settings, console)
+        background.clear_failed()
+    except OSError as exc:
+        where = exc.filename or compiled.cache_dir()
+        why = (exc.strerror or str(exc)).lower()
+        fail(f"walk3d compile: could not write {where}: {why}", code=EXIT_WRITE)
     console.print(
         "walk3d compile: already compiled (model cache)" if info is None else
         f"walk3d compile: {info['compiled']} libraries in {info['wall_time_s']:.0f} s, "
@@ -70,5 +81,6 @@ def _compile(settings: PredictionSettings, console: Console) -> dict | None:
 
         try:
             return compile_solver(settings, on_done=done)
-        except compiled.CompileError as exc:
-            fail(f"walk3d compile: {exc}")
+        except compiled.CompileError as exc:  # the compiler's own full disk is exit 3 too
+            full = "no space left on device" in str(exc).lower()
+            fail(f"walk3d compile: {exc}", code=EXIT_WRITE if full else 2)

@@ -14,6 +14,7 @@ from walk3d.cli.common import (
     PlateThreshold,
     Sex,
     app,
+    check_output_file,
     console,
     fail,
     positive_options,
@@ -143,7 +144,8 @@ def audit(
     term per gait phase and in total (raw, and weighted as the criterion weighs it), each leg's
     centre-of-mass work in double support, and the right leg's joint-power bursts (J/kg).
     Written as JSON to TRACKED/audit.json, whose report.html then shows it, or to --out.
-    Exit code 2 for a folder that is not a complete result, 3 if it cannot be written."""
+    Exit code 2 for a folder that is not a complete result or an --out that cannot be a JSON
+    file (checked before the audit), 3 if it cannot be written."""
     import json
     from pathlib import Path
 
@@ -151,8 +153,8 @@ def audit(
     from walk3d.io.errors import DataFileError
     from walk3d.tracking import audit as run
 
-    if out is not None and not out.lower().endswith(".json"):
-        fail(f"--out must name a .json file, got {out}")
+    if out is not None:  # a folder, device, FIFO, non-UTF-8 or too long name: refused now
+        check_output_file(out, suffix=".json")
     try:
         with console.status("walk3d: auditing"):
             result = run(tracked, predicted)

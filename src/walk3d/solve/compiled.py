@@ -7,11 +7,13 @@ derivative_chunks` run about 9 times faster than in CasADi's SX virtual machine 
 at -O0), with equal values (docs/solver.md, "Compiled derivatives").
 
 An entry is one library per function, ``lib-<key>-<function name>.so`` in
-:func:`walk3d.solve.model_cache.cache_dir`. It is compiled in a temporary folder next to it and
-moved into place with ``os.replace``, so a concurrent reader sees either no library or a whole
-one. A library that does not load counts as missing. Compiling is never implicit: it takes
-minutes (:func:`compile_functions`), and only :func:`walk3d.solve.solver.compile_solver`
-(``walk3d compile``, campaigns) asks for it.
+:func:`walk3d.solve.model_cache.cache_dir`. It is compiled in a temporary folder next to it,
+``.build-<pid>-<random>`` (:data:`BUILD_PREFIX`, the building process's pid), and moved into
+place with ``os.replace``, so a concurrent reader sees either no library or a whole one. A
+killed compile leaves its folders: the next compile start and ``walk3d cache --clear`` remove
+them (:func:`remove_leftover_builds`). A library that does not load counts as missing.
+Compiling is never implicit: it takes minutes (:func:`compile_functions`), and only
+:func:`walk3d.solve.solver.compile_solver` (``walk3d compile``, campaigns) asks for it.
 
 The compiler is ``$CC``, else ``cc`` or ``gcc`` on the ``PATH``; its flags are ``$WALK3D_CFLAGS``,
 else ``-O0``: the default problem's derivatives compile in about 4 minutes on 2 cores, where
@@ -23,6 +25,8 @@ Without a compiler the solver keeps CasADi's virtual machine (same results).
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import hashlib
 import logging
 import os
@@ -40,12 +44,15 @@ import casadi as ca
 from walk3d.io.atomic import atomic_write_text
 from walk3d.solve.model_cache import cache_dir
 
-__all__ = ["CompileError", "build_library", "compile_functions", "compiler", "flags",
-           "load_functions", "require_compiler"]  # fmt: skip
+__all__ = ["BUILD_PREFIX", "CompileError", "build_folders", "build_library", "compile_functions",
+           "compiler", "flags", "leftover_builds", "load_functions", "remove_leftover_builds",
+           "require_compiler"]  # fmt: skip
 
 ENV_CC = "CC"
 ENV_FLAGS = "WALK3D_CFLAGS"
 DEFAULT_FLAGS = ("-O0",)
+BUILD_PREFIX = ".build-"
+"""Name prefix of :func:`build_library`'s temporary folders in the cache folder."""
 log = logging.getLogger(__name__)
 
 
@@ -171,20 +178,81 @@ def build_library(
     compiler its language: ``.c``, ``.s``): ``cc *before -shared SOURCE -o LIB *after`` in a
     temporary folder next to ``path``, then moved into place (atomic) after its SHA-256
     (:func:`digest_path`). Raises :class:`CompileError` with the compiler's last line of output
-    if it fails."""
+    (or its line that reports a full disk: ``ld``'s last line only says that it failed) if it
+    fails."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(dir=path.parent, prefix=".build-") as tmp:
+    prefix = f"{BUILD_PREFIX}{os.getpid()}-"  # whose it is: :func:`leftover_builds`
+    with tempfile.TemporaryDirectory(dir=path.parent, prefix=prefix) as tmp:
         src, lib = Path(tmp) / name, Path(tmp) / "lib.so"
         src.write_text(source, encoding="utf-8")
         cmd = [*cc, *before, "-shared", str(src), "-o", str(lib), *after]
         run = subprocess.run(cmd, capture_output=True, text=True, check=False)
-        if run.returncode != 0:
-            tail = run.stderr.strip().splitlines()[-1:] or ["no output"]
+        if run.returncode != 0:  # the last line, or the one that says the disk is full
+            lines = run.stderr.strip().splitlines()
+            full = [ln for ln in lines if os.strerror(errno.ENOSPC) in ln]
+            tail = (full or lines)[-1:] or ["no output"]
             raise CompileError(f"{shlex.join(cmd[:1])} failed on {Path(name).stem}: {tail[0]}")
         # the digest first: until the library is in place, a reader finds a mismatch, not a
         # library without its digest's protection
         atomic_write_text(digest_path(path), _sha256(lib) + "\n")
         os.replace(lib, path)
+
+
+def build_folders() -> list[Path]:
+    """The build folders in the cache folder: builds in progress, and those of builds killed
+    before they could remove theirs."""
+    try:
+        return sorted(p for p in cache_dir().glob(f"{BUILD_PREFIX}*") if p.is_dir())
+    except OSError:
+        return []
+
+
+def _running(pid: int) -> bool:
+    """Whether process ``pid`` runs on this machine (a zombie, ended but not reaped, does not)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # another user's: it exists
+        pass
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except (OSError, IndexError):  # no /proc (macOS)
+        return True
+
+
+def leftover_builds() -> list[Path]:
+    """The build folders whose process no longer runs here (``.build-<pid>-...``; any without
+    a pid): a killed compile's. A folder of a running build, on this machine, is not one."""
+    out = []
+    for folder in build_folders():
+        pid = folder.name[len(BUILD_PREFIX) :].split("-", 1)[0]
+        if not (pid.isdigit() and int(pid) > 0 and _running(int(pid))):
+            out.append(folder)
+    return out
+
+
+def folder_bytes(folder: Path) -> int:
+    """Total size of the files under ``folder``, bytes (files deleted meanwhile not counted)."""
+    total = 0
+    for root, _dirs, files in os.walk(folder):
+        for name in files:
+            with contextlib.suppress(OSError):
+                total += os.lstat(os.path.join(root, name)).st_size
+    return total
+
+
+def remove_leftover_builds() -> tuple[int, int]:
+    """Delete :func:`leftover_builds`: ``(folders, bytes)`` deleted. Call it holding the compile
+    lock (:func:`walk3d.cli.background.hold`): a compile on another machine sharing the cache
+    folder holds it while it builds."""
+    count = size = 0
+    for folder in leftover_builds():
+        n = folder_bytes(folder)
+        shutil.rmtree(folder, ignore_errors=True)
+        if not folder.exists():
+            count, size = count + 1, size + n
+    return count, size
 
 
 def _c_source(fn: ca.Function) -> str:
