@@ -147,6 +147,7 @@ def summarize(
             settings.gait.period,
             settings.gait.double_support,
             mass,
+            settings.gait.speed,
         )
         | realism_figures(ev.prediction_arrays, mass, ev.step_width_m),
     }

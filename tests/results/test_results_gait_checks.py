@@ -5,13 +5,17 @@ import pytest
 
 from walk3d import G
 from walk3d.contact.phases import GaitPhases
-from walk3d.results.gait_checks import walking_checks
+from walk3d.results.gait_checks import HUMP_MIN_BW, hump_min_bw, walking_checks
 
 T, TD, MASS = 1.08, 0.16, 70.0
 
 
 def _arrays(
-    knee_peak_deg: float, humps: bool, hip_stance_peak_deg: float = 30.0, hip_floor_deg: float = 0.0
+    knee_peak_deg: float,
+    humps: bool,
+    hip_stance_peak_deg: float = 30.0,
+    hip_floor_deg: float = 0.0,
+    depth: float = 0.4,
 ) -> dict:
     ph = GaitPhases(T, TD)
     t = np.linspace(0.0, T, 101)
@@ -20,8 +24,13 @@ def _arrays(
     idx = np.flatnonzero(stance)
     s = np.zeros_like(t)
     s[idx] = np.linspace(0.0, 1.0, len(idx))
-    shape = 1.0 + 0.4 * np.cos(2 * np.pi * s) if humps else np.ones_like(t)
-    fy = np.where(stance, np.sin(np.pi * s) ** 0.5 * shape, 0.0) * MASS * G
+    if depth < 0.1:  # slow walking: a plateau with two small bumps
+        bumps = np.exp(-(((s - 0.25) / 0.08) ** 2)) + np.exp(-(((s - 0.75) / 0.08) ** 2))
+        ramp = np.clip(np.minimum(s, 1.0 - s) / 0.1, 0.0, 1.0)
+        fy = np.where(stance, ramp * (0.95 + depth * bumps), 0.0) * MASS * G
+    else:
+        shape = 1.0 + depth * np.cos(2 * np.pi * s) if humps else np.ones_like(t)
+        fy = np.where(stance, np.sin(np.pi * s) ** 0.5 * shape, 0.0) * MASS * G
     grf = np.zeros((101, 2, 3))
     grf[:, 0, 1] = fy
     angles = np.zeros((101, 2))
@@ -109,3 +118,25 @@ def test_roughness_counts_only_joints_that_move_5_degrees():
         f = realism_figures(a, MASS, 0.1)
         assert (f["roughness_worst_dof"] == "knee_flexion_r") is counted
         assert (f["roughness_worst"] > 0.4) is counted
+
+
+def test_slow_walking_humps_pass_slowly_but_not_at_normal_speed():
+    """A force that dips about 0.04 body weight between its humps, as people's at 0.55 m/s
+    (Fukuchi et al. 2018), walks at that speed; the same curve at 1.3 m/s does not (control)."""
+    flat = _arrays(60.0, True, depth=0.04)
+    humps = walking_checks(flat, T, TD, MASS, speed=0.55)["fy_first_dip_second_bw"]
+    assert 0.02 < min(humps[0], humps[2]) - humps[1] < HUMP_MIN_BW
+    assert walking_checks(flat, T, TD, MASS, speed=0.55)["two_fy_humps"]
+    assert not walking_checks(flat, T, TD, MASS, speed=1.3)["two_fy_humps"]
+    assert not walking_checks(flat, T, TD, MASS)["two_fy_humps"]  # no speed: the normal bar
+
+
+@pytest.mark.parametrize(
+    ("speed", "lowest"), [(0.43, 0.020), (0.54, 0.024), (0.68, 0.052), (0.85, 0.068),
+                          (1.00, 0.073), (1.17, 0.204)],
+)  # fmt: skip
+def test_the_hump_bar_is_below_every_measured_limb(speed, lowest):
+    """The smallest hump of the limbs measured at each treadmill speed (Fukuchi et al. 2018,
+    docs/validation.md) clears the bar, and the bar is never above the normal one."""
+    assert 0.0 < hump_min_bw(speed) < lowest
+    assert hump_min_bw(speed) <= HUMP_MIN_BW == hump_min_bw(None) == hump_min_bw(2.0)

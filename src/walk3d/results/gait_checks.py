@@ -4,7 +4,8 @@ The two checks of issue #3:
 
 * the knee flexes at least 40° in swing (real gait: about 60°);
 * the vertical force under a foot has two humps over its stance (loading response and push-off)
-  separated by a mid-stance dip: each maximum at least 0.1 body weight above the dip.
+  separated by a mid-stance dip: each maximum at least 0.1 body weight above the dip, less
+  below 1.15 m/s (:func:`hump_min_bw`), where people's force flattens between its humps.
 
 and a third one, because those two pass the crouched local optima that most random starts
 reach (C_tor about 6.3–7.4 against 1.9–3.7 for walking, yet knee about 40° in swing and two
@@ -31,16 +32,35 @@ from walk3d.contact.phases import GaitPhases
 
 KNEE_SWING_MIN_DEG = 40.0
 HUMP_MIN_BW = 0.1
+"""Least height of each vertical-force hump above the mid-stance dip, body weights, from
+1.15 m/s up: every healthy limb measured there cleared it (:data:`SLOW_HUMPS`)."""
+SLOW_HUMPS = ((0.40, 0.015), (0.55, 0.02), (0.70, 0.045), (1.00, 0.065), (1.15, HUMP_MIN_BW))
+"""``(speed m/s, least hump BW)``, linear in between and constant outside: just below the
+smaller hump of every limb measured at that speed (42 limb-trials of 8 young adults walking on
+a treadmill at 0.39–1.42 m/s, Fukuchi, Fukuchi & Duarte 2018, PeerJ 6:e4640; the lowest were
+0.020 BW at 0.43 m/s, 0.024 at 0.54, 0.052 at 0.68, 0.068 at 0.85, 0.073 at 1.00 and 0.204
+at 1.17 m/s; docs/validation.md)."""
 
 
-def walking_checks(arrays: dict, period: float, double_support: float, mass: float) -> dict:
+def hump_min_bw(speed: float | None) -> float:
+    """Least hump above the mid-stance dip for a walk at ``speed`` (m/s), body weights;
+    :data:`HUMP_MIN_BW` when the speed is not known."""
+    if speed is None:
+        return HUMP_MIN_BW
+    v, h = zip(*SLOW_HUMPS, strict=True)
+    return float(np.interp(speed, v, h))
+
+
+def walking_checks(
+    arrays: dict, period: float, double_support: float, mass: float, speed: float | None = None
+) -> dict:
     """Knee flexion in swing, hip flexion in stance and mid-stance, and the vertical-force humps
     (right foot).
 
     ``arrays`` is a prediction's array dict (``time`` in s, ``dof_names``, ``joint_angle`` in
     rad with time first, ``grf_force`` (N, 2, 3) in N with feet [right, left]); ``period`` and
-    ``double_support`` in s, ``mass`` in kg. Angles in the result are in degrees, forces in
-    body weights.
+    ``double_support`` in s, ``mass`` in kg, ``speed`` in m/s (None: the humps' bar of normal
+    speeds). Angles in the result are in degrees, forces in body weights.
     """
     ph = GaitPhases(period, double_support)
     t = np.asarray(arrays["time"])
@@ -59,13 +79,15 @@ def walking_checks(arrays: dict, period: float, double_support: float, mass: flo
         n = len(f)
         i1, i2 = int(np.argmax(f[: n // 2])), n // 2 + int(np.argmax(f[n // 2 :]))
         humps = (float(f[i1]), float(f[i1 : i2 + 1].min()), float(f[i2]))
-    two_humps = bool(humps[0] - humps[1] > HUMP_MIN_BW and humps[2] - humps[1] > HUMP_MIN_BW)
+    bar = hump_min_bw(speed)
+    two_humps = bool(humps[0] - humps[1] > bar and humps[2] - humps[1] > bar)
     issue = bool(knee_max >= KNEE_SWING_MIN_DEG and two_humps)
     upright_stance = upright(hip_mid)
     return {
         "knee_swing_max_deg": knee_max,
         "fy_first_dip_second_bw": list(humps),
         "two_fy_humps": two_humps,
+        "fy_hump_min_bw": bar,
         "hip_stance_max_deg": hip_max,
         "hip_midstance_deg": hip_mid,
         "upright_stance": upright_stance,
