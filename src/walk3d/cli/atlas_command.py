@@ -71,19 +71,24 @@ def build(
 
 
 @atlas_app.command("show", short_help="List the package's atlas files.")
-def show() -> None:
-    """List the package's atlas files: sex, preset, speeds, solve revision, the entries with a
-    handover optimum (and with a primal-dual start) for the one-solve default, those with optima
-    at other periods (for a given T), and whether this walk3d can use them; a file that is not
-    an atlas (damaged, stray) is flagged in its row."""
+def show(
+    check: bool = typer.Option(
+        True, "--check/--no-check", help="Check that each entry walks (a few seconds)."
+    ),
+) -> None:
+    """List the package's atlas files: sex, preset, speeds and Td/T, solve revision, the entries
+    with a handover optimum (and with a primal-dual start) for the one-solve default, those with
+    optima at other periods (for a given T), how many of the free-landing and handover optima
+    look like walking, and whether this walk3d can use them; a file that is not an atlas
+    (damaged, stray) is flagged in its row."""
     import numpy as np
     from rich.table import Table
 
     from walk3d.solve.atlas import ATLAS_DIR, load_periods, load_warm, read_atlas
 
     t = Table(title=f"walk3d atlas ({ATLAS_DIR})")
-    cols = ("sex", "preset", "speeds m/s", "entries", "handover (warm)", "other periods",
-            "revision", "usable")  # fmt: skip
+    cols = ("sex", "preset", "speeds m/s", "Td/T", "entries", "handover (warm)", "other periods",
+            "walk (handover)", "revision", "usable")  # fmt: skip
     for col in cols:
         t.add_column(col)
     for path in sorted(ATLAS_DIR.glob("*.json")):
@@ -92,9 +97,7 @@ def show() -> None:
             a = read_atlas(path)
         except (ValueError, OSError) as exc:  # another format, damaged, or a stray file
             why = " ".join(str(exc).split())
-            t.add_row(
-                sex, preset or "-", "-", "-", "-", "-", "-", f"no: not a usable atlas ({why})"
-            )
+            t.add_row(sex, preset or "-", *["-"] * 7, f"no: not a usable atlas ({why})")
             continue
         ho = 0 if a.x_handover is None else int(np.isfinite(a.x_handover).all(axis=1).sum())
         warm, levels = load_warm(a), load_periods(a)
@@ -102,10 +105,24 @@ def show() -> None:
             f"{f:g} T: {int(np.isfinite(levels['z'][:, m, 0]).sum())}"
             + _half_way(levels["reached"][:, m], f)
             for m, f in enumerate(levels["factors"]))  # fmt: skip
-        t.add_row(sex, preset, f"{a.speeds[0]:.2f}-{a.speeds[-1]:.2f}", str(len(a.speeds)),
+        frac = a.double_supports / a.periods
+        t.add_row(sex, preset, f"{a.speeds[0]:.2f}-{a.speeds[-1]:.2f}",
+                  f"{frac.min():.3f}-{frac.max():.3f}", str(len(a.speeds)),
                   f"{ho} ({0 if warm is None else warm['speeds'].size})", other,
-                  str(a.solve_revision), "yes" if a.current else "no: rebuild")  # fmt: skip
+                  _walking(a, ho) if check else "-", str(a.solve_revision),
+                  "yes" if a.current else "no: rebuild")  # fmt: skip
     console.print(t)
+
+
+def _walking(atlas, handover: int) -> str:
+    """``k (m)``: how many free-landing (and handover) optima look like walking, with the
+    speeds of those that do not."""
+    from walk3d.campaign.atlas_checks import walking_entries
+
+    free, ho = walking_entries(atlas), walking_entries(atlas, handover=True)
+    out = f"{int(free.sum())} ({int(ho.sum())} of {handover})"
+    fails = [f"{v:.1f}" for v, ok in zip(atlas.speeds, free, strict=True) if not ok]
+    return out + (f"; not: {', '.join(fails)} m/s" if fails else "")
 
 
 def _half_way(reached, factor: float) -> str:
