@@ -9,7 +9,36 @@ Conventions used everywhere in the package (see ``docs/conventions.md``):
 * time is the first axis of every array.
 """
 
-from walk3d.constants import G, __version__
+import os as _os
+import signal as _signal
+import sys as _sys
+import threading as _threading
+
+
+def _exit_at_once(signum: int, _frame: object) -> None:
+    """Ctrl-C or SIGTERM while the ``walk3d`` command is still importing: nothing is written
+    yet, so one line and exit code 130 (143) at once (the command line then takes over)."""
+    terminated = signum == _signal.SIGTERM
+    try:
+        _os.write(2, b"walk3d: terminated\n" if terminated else b"walk3d: interrupted\n")
+    except OSError:
+        pass
+    _os._exit(143 if terminated else 130)
+
+
+def _is_the_command() -> bool:
+    """Whether this process is the ``walk3d`` command (or ``python -m walk3d.cli``), not a
+    program that imports walk3d."""
+    argv = getattr(_sys, "orig_argv", _sys.argv)
+    module = argv[argv.index("-m") + 1] if "-m" in argv[:-1] else None
+    return _os.path.basename(_sys.argv[0]) in ("walk3d", "walk3d.exe") or module == "walk3d.cli"
+
+
+if _is_the_command() and _threading.current_thread() is _threading.main_thread():
+    for _sig in (_signal.SIGINT, _signal.SIGTERM):
+        _signal.signal(_sig, _exit_at_once)
+
+from walk3d.constants import G, __version__  # noqa: E402
 
 __all__ = ["G", "Node", "Prediction", "Term", "__version__", "load_result", "predict",
            "register_term", "track"]  # fmt: skip

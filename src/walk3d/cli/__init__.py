@@ -50,12 +50,22 @@ def _root() -> None:
     """Predict three-dimensional whole-body human walking."""
 
 
+_TERMINATED: list[bool] = []
+"""Set once a SIGTERM came (the process is ending)."""
+
+
+def _progress_module():
+    """:mod:`walk3d.solve.progress` if it is imported, else None: a signal may come while a
+    module is half imported, so the handlers never import."""
+    module = sys.modules.get("walk3d.solve.progress")
+    return module if hasattr(module, "INTERRUPT") else None
+
+
 def _interrupted() -> None:
     """Ctrl-C (SIGTERM): one line and exit code 130 (143) at once; the temporaries were removed
     while the exception unwound, and nothing is left to write."""
-    from walk3d.solve.progress import INTERRUPT
-
-    terminated = INTERRUPT.terminated
+    progress = _progress_module()
+    terminated = bool(_TERMINATED) or bool(progress and progress.INTERRUPT.terminated)
     err_console.print("walk3d: terminated" if terminated else "walk3d: interrupted", markup=False)
     sys.stdout.flush()
     sys.stderr.flush()
@@ -63,10 +73,13 @@ def _interrupted() -> None:
 
 
 def _on_sigterm(_signum, _frame) -> None:
-    from walk3d.solve.progress import INTERRUPT, Terminated
-
-    INTERRUPT.terminated = True
-    raise Terminated
+    """SIGTERM stops the run as Ctrl-C does (temporaries removed on the way out), exit 143."""
+    _TERMINATED.append(True)
+    progress = _progress_module()
+    if progress is not None:
+        progress.INTERRUPT.terminated = True
+        raise progress.Terminated
+    raise KeyboardInterrupt
 
 
 def _needs_command(exc: Exception) -> str:
@@ -81,8 +94,8 @@ def _needs_command(exc: Exception) -> str:
 
 def _run(args: list[str]) -> None:
     """Run the command line on ``args``; always ends in SystemExit (or ``os._exit``)."""
-    command = typer.main.get_command(app)
     try:
+        command = typer.main.get_command(app)
         rv = command.main(args=args, prog_name="walk3d", standalone_mode=False)
     except KeyboardInterrupt:
         _interrupted()
@@ -110,6 +123,7 @@ def main(argv: list[str] | None = None) -> None:
     args = list(sys.argv[1:] if argv is None else argv) or ["--help"]
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _on_sigterm)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     stream, errors = sys.stdout, sys.stderr
     sys.stdout = GuardedStdout(stream)
     sys.stderr = QuietStderr(errors)
@@ -118,6 +132,8 @@ def main(argv: list[str] | None = None) -> None:
             _run(args)
         except SystemExit as exc:
             code = exc.code
+        except KeyboardInterrupt:  # between the handlers' setup and the command's own guard
+            _interrupted()
         sys.stdout.flush()
     except OutputClosed:
         silence_stdout(stream)
