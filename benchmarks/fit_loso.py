@@ -53,8 +53,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--generations", type=int, default=6)
     ap.add_argument("--popsize", type=int, default=6)
     ap.add_argument("--all", action="store_true", help="also fit on all three sources")
-    ap.add_argument("--runs", type=Path, default=ROOT / "benchmarks" / "runs" / "fit",
-                    help="folder of the folds (one fit folder each)")
+    ap.add_argument(
+        "--runs",
+        type=Path,
+        default=ROOT / "benchmarks" / "runs" / "fit",
+        help="folder of the folds (one fit folder each)",
+    )
     environment.add_output_arguments(ap, "fit_loso")
     a = ap.parse_args(argv)
     path = environment.output_path(a, "fit_loso")
