@@ -271,23 +271,44 @@ def _tracked(pred, target, settings, outcome) -> Tracked:
     return Tracked(pred, rows, binding(outcome, settings) if missed else [])
 
 
-def _evaluated(folder: str | Path, settings: PredictionSettings | None = None):
-    """A result folder's cycle evaluated again from its coefficients, under ``settings`` (its
-    own by default), with its settings."""
-    import json
-
+def _recorded(folder: Path) -> tuple[PredictionSettings, np.ndarray]:
+    """The settings and coefficients ``x`` a complete result folder's summary records;
+    DataFileError (one line) without usable settings, or without the half or full cycle's
+    coefficients as finite numbers."""
+    from walk3d.io.checks import finite_number, read_json_object
     from walk3d.io.errors import DataFileError
-    from walk3d.problem.settings import recorded_settings
-    from walk3d.results.evaluate import evaluate_cycle
+    from walk3d.problem import layout
+    from walk3d.problem.settings import first_error, recorded_settings
     from walk3d.results.prediction import check_complete
 
-    check_complete(Path(folder))
-    summary = json.loads((Path(folder) / "summary.json").read_text(encoding="utf-8"))
+    check_complete(folder)
+    path = folder / "summary.json"
+    summary = read_json_object(path, "walk3d summary")
+    recorded = recorded_settings(summary)
+    if not recorded:  # defaults would evaluate the coefficients of another problem
+        raise DataFileError(path, "records no settings: not a walk3d summary")
     try:
-        own = PredictionSettings(**recorded_settings(summary))
-        x = np.asarray(summary["coefficients"]["x"], dtype=float)
-    except (KeyError, TypeError, ValueError) as exc:
-        raise DataFileError(f"{folder}: summary.json: {' '.join(str(exc).split())}") from None
+        own = PredictionSettings(**recorded)
+    except (TypeError, ValueError, AttributeError) as exc:
+        raise DataFileError(path, f"unusable settings: {first_error(exc)}") from None
+    coefficients = summary.get("coefficients")
+    x = coefficients.get("x") if isinstance(coefficients, dict) else None
+    if not isinstance(x, list) or len(x) not in (layout.N_X, layout.N_XF):
+        raise DataFileError(path, f"coefficients.x is not a list of {layout.N_X} or "
+                            f"{layout.N_XF} numbers (the half or full cycle's)")  # fmt: skip
+    return own, np.array([finite_number(path, v, "each of coefficients.x") for v in x])
+
+
+def _evaluated(folder: str | Path, settings: PredictionSettings | None = None):
+    """A result folder's cycle evaluated again from its coefficients, under ``settings`` (its
+    own by default), with its settings; a DataFileError names the folder."""
+    from walk3d.io.errors import DataFileError
+    from walk3d.results.evaluate import evaluate_cycle
+
+    try:
+        own, x = _recorded(Path(folder))
+    except DataFileError as exc:
+        raise DataFileError(exc.path, f"{exc.reason} (in {folder})", exc.line) from None
     use = own if settings is None else settings.replace(**own.gait.model_dump())
     return evaluate_cycle(body_for(use), use, x), use
 

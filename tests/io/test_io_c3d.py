@@ -101,3 +101,36 @@ def test_non_finite_analog_samples_are_refused_naming_channel_and_sample(tmp_pat
     with pytest.raises(DataFileError, match=r"^walk\.c3d: analog channel 'Fz1' is not finite "
                        r"in 10 samples, first at sample 31$"):  # fmt: skip
         read_c3d(path)
+
+
+def _analog_rate(path: Path, rate: float) -> None:
+    """Set the ANALOG:RATE parameter of ``path`` in place (ezc3d writes no such file)."""
+    import struct
+
+    blob = bytearray(path.read_bytes())
+    groups = {}  # group id -> name, from the group records (negative ids)
+    at = blob.find(b"ANALOG", 512)
+    groups[256 - blob[at - 1]] = "ANALOG"
+    at = blob.find(b"RATE", 512)
+    while at > 0:
+        if blob[at - 1] in groups:  # this group's RATE: offset, type, no dimension, a float
+            blob[at + 8 : at + 12] = struct.pack("<f", rate)
+        at = blob.find(b"RATE", at + 4)
+    path.write_bytes(bytes(blob))
+
+
+@pytest.mark.parametrize("rate", [0.0, ANALOG_RATE])
+def test_force_platforms_without_analog_samples_are_one_line(tmp_path, rate) -> None:
+    """An analog rate of 0 leaves the force platforms without samples: a numpy message
+    ('zero-size array to reduction operation fmax...') and two RuntimeWarnings in walk3d
+    validate (found while fuzzing C3D rates). Control: the rate it was written with."""
+    path = tmp_path / "walk.c3d"
+    _write_synthetic(path)
+    _analog_rate(path, rate)
+    assert ezc3d.c3d(str(path))["parameters"]["ANALOG"]["RATE"]["value"][0] == rate
+    if rate:
+        assert read_c3d(path).platforms[0].force.shape == (200, 3)
+        return
+    with pytest.raises(DataFileError, match=r"^walk\.c3d: the analog rate 0\.0 is not a positive "
+                       r"number: the force platforms have no samples$"):  # fmt: skip
+        read_c3d(path)

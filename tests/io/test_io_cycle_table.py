@@ -81,3 +81,26 @@ def test_absurd_values_and_negative_sd_are_refused(tmp_path, falisse, column, va
                 read_cycle_table(path)
         else:  # control: a large but bounded mean, a zero SD
             assert read_cycle_table(path).column(column[: column.rindex("_")])[0].size > 50
+
+
+def _small_table(path: Path, cell: str = "") -> Path:
+    """A 51-row knee table; ``cell``, when given, takes the place of row 3's mean."""
+    rows = ["percent_cycle,knee_angle_deg_mean,knee_angle_deg_sd"]
+    rows += [f"{p},{-30 + 25 * np.cos(p / 16):.3f},2" for p in range(0, 101, 2)]
+    if cell:
+        rows[3] = f"4,{cell},2"
+    path.write_text("\n".join(rows) + "\n", encoding="utf-8")
+    return path
+
+
+def test_a_cell_past_the_csv_field_limit_is_one_line(tmp_path, capsys) -> None:
+    """A cell of 200 000 characters, past the csv module's limit of 131 072, gave a
+    ``_csv.Error`` traceback in validate, track and report (the fuzz set, ``-m fuzz``)."""
+    from helpers import cli, one_line_error
+
+    path = _small_table(tmp_path / "long.csv", "1" * 200_000)
+    with pytest.raises(DataFileError, match=r"^long\.csv:4: .*longer than"):
+        read_cycle_table(path)
+    one_line_error(cli(capsys, "track", "--out", tmp_path / "t", "--table", path), "long.csv:4")
+    # control: the same table with a plain number there reads
+    assert read_cycle_table(_small_table(tmp_path / "ok.csv", "-5.5")).mean.shape == (51, 1)

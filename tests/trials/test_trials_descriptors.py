@@ -7,9 +7,7 @@ from walk3d.io import Storage
 from walk3d.trials.descriptors import descriptors_from_trial, half_cycle_lag
 
 
-def test_half_cycle_lag_of_a_symmetric_gait_is_half_the_period():
-    period = 1.1
-    t = np.arange(0.0, 2.0, 0.01)
+def _symmetric_ik(period: float, t: np.ndarray) -> Storage:
     cols, data = [], []
     for name, phase in (("hip_flexion", 0.1), ("knee_angle", 0.3), ("ankle_angle", 0.7)):
         right = np.sin(2 * np.pi * (t / period + phase)) + 0.3 * np.sin(4 * np.pi * t / period)
@@ -18,8 +16,26 @@ def test_half_cycle_lag_of_a_symmetric_gait_is_half_the_period():
         )
         cols += [f"{name}_r", f"{name}_l"]
         data += [right, left]
-    ik = Storage("synthetic", t, tuple(cols), np.column_stack(data), in_degrees=True)
-    assert half_cycle_lag(ik, guess=0.5) == pytest.approx(period / 2, abs=2e-3)
+    return Storage("synthetic", t, tuple(cols), np.column_stack(data), in_degrees=True)
+
+
+def test_half_cycle_lag_of_a_symmetric_gait_is_half_the_period():
+    ik = _symmetric_ik(1.1, np.arange(0.0, 2.0, 0.01))
+    assert half_cycle_lag(ik, guess=0.5) == pytest.approx(1.1 / 2, abs=2e-3)
+
+
+@pytest.mark.parametrize("scale", [1e-9, 1e-6, 1.0])
+def test_an_ik_time_in_the_wrong_unit_is_too_short_not_a_memory_error(scale):
+    """An IK whose time is scaled by 1e-9 (its GRF's in seconds) made the lag search allocate
+    447 GiB (MemoryError: a traceback in calibrate, validate and predict --from-trial), by 1e-6
+    0.5 GB: every lag was made before those longer than the trial were left out. Found while
+    probing the fuzz set's time scaling. Control: the time in seconds."""
+    ik = _symmetric_ik(1.1 * scale, np.arange(0.0, 2.0, 0.01) * scale)
+    if scale == 1.0:
+        assert half_cycle_lag(ik, guess=0.5) == pytest.approx(0.55, abs=2e-3)
+        return
+    with pytest.raises(ValueError, match="too short to find the half-cycle lag"):
+        half_cycle_lag(ik, guess=0.5)
 
 
 def test_falisse_trial_descriptors(falisse):

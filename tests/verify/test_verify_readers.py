@@ -32,6 +32,13 @@ def test_junk_grf_xml_is_one_line(folder, capsys):
     one_line_error(cli(capsys, "verify", folder), "grf.xml:1", "invalid XML")
 
 
+def test_an_unknown_encoding_in_grf_xml_is_one_line(folder, capsys):
+    """It was a LookupError traceback (the fuzz set, ``-m fuzz``)."""
+    text = (folder / "grf.xml").read_text(encoding="utf-8")
+    replace_result_file(folder, "grf.xml", text.replace("UTF-8", "UTF-Infinity", 1).encode())
+    one_line_error(cli(capsys, "verify", folder), "grf.xml", "unknown encoding 'UTF-Infinity'")
+
+
 def test_nan_in_motion_names_the_column_not_the_time_range(folder, tmp_path, capsys):
     bad = storage_with_nan(folder / "motion.mot", tmp_path / "m.mot", "knee_angle_r", range(4, 6))
     replace_result_file(folder, "motion.mot", bad.read_bytes())

@@ -264,8 +264,11 @@ def _interpret(
     _check_finite(path, analog_values, analog_labels, "analog channel")
     if not (math.isfinite(point_rate) and point_rate > 0):
         raise DataFileError(path, f"the point rate {point_rate!r} is not a positive number")
-    if analog_values.size and not (math.isfinite(analog_rate) and analog_rate > 0):
-        raise DataFileError(path, f"the analog rate {analog_rate!r} is not a positive number")
+    rate_ok = math.isfinite(analog_rate) and analog_rate > 0
+    if (analog_values.size or raw_platforms) and not rate_ok:  # rate 0: platforms unsampled
+        platforms = ": the force platforms have no samples" if raw_platforms else ""
+        why = f"the analog rate {analog_rate!r} is not a positive number{platforms}"
+        raise DataFileError(path, why)
     analogs = AnalogData(
         analog_labels,
         analog_rate,

@@ -108,7 +108,8 @@ def read_xml(path: str | PathLike[str]) -> ET.ElementTree:
 
     Raises:
         FileNotFoundError: there is no such file.
-        DataFileError: not well-formed XML (with the line of the first error).
+        DataFileError: not well-formed XML (with the line of the first error), or an
+            encoding Python does not know.
     """
     path = Path(path)
     raw = _read_bytes(path)
@@ -116,6 +117,9 @@ def read_xml(path: str | PathLike[str]) -> ET.ElementTree:
         return ET.ElementTree(ET.fromstring(raw))
     except ET.ParseError as exc:
         raise DataFileError(path, f"invalid XML: {exc.msg}", exc.position[0]) from None
+    except LookupError as exc:  # the declaration's encoding="..." is no codec Python knows
+        name = str(exc).removeprefix("unknown encoding: ")
+        raise DataFileError(path, f"invalid XML: unknown encoding {name!r}") from None
     except (ValueError, RecursionError) as exc:
         raise DataFileError(path, f"invalid XML ({type(exc).__name__})") from None
 

@@ -202,19 +202,24 @@ def read_cycle_table(path: str | PathLike[str]) -> CycleTable:
     """Read a cycle-table CSV (wide mean/SD or Winter layout, see the module doc).
 
     Raises:
-        DataFileError: No recognisable header, a row of the wrong length, a non-number, a
-            non-finite value, one beyond :data:`MAX_ABS_VALUE` or a negative SD; or no gait
-            cycle (:func:`_cycle`): too few rows, the percent not increasing over 0-100 %,
-            every column constant.
+        DataFileError: No recognisable header, a row of the wrong length, a cell longer than
+            the csv module's limit, a non-number, a non-finite value, one beyond
+            :data:`MAX_ABS_VALUE` or a negative SD; or no gait cycle (:func:`_cycle`): too few
+            rows, the percent not increasing over 0-100 %, every column constant.
     """
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError:
         raise DataFileError(path, "not a text file (invalid UTF-8)") from None
-    rows = []
-    for number, cells in enumerate(csv.reader(text.splitlines()), start=1):
-        rows.append((number, [c.strip() for c in cells]))
+    rows, reader = [], csv.reader(text.splitlines())
+    try:
+        for number, cells in enumerate(reader, start=1):
+            rows.append((number, [c.strip() for c in cells]))
+    except csv.Error as exc:  # a cell longer than csv.field_size_limit(), 131 072 characters
+        limit = f"longer than {csv.field_size_limit()} characters"
+        reason = "a cell " + limit if "field limit" in str(exc) else f"not CSV: {exc}"
+        raise DataFileError(path, reason, reader.line_num) from None
     rows = [(n, c) for n, c in rows if any(c)] or [(1, [])]
     first = rows[0][1]
     if first and first[0].lower() in _PERCENT_NAMES:

@@ -5,9 +5,9 @@ result folder that has them."""
 from __future__ import annotations
 
 import csv
-import json
 from pathlib import Path
 
+from walk3d.io.checks import read_json_object
 from walk3d.report import html as h
 
 PHASES = ("loading", "mid-stance", "push-off", "swing", "total")
@@ -45,9 +45,10 @@ def tracking_sections(folder: Path | None, level: int = 2) -> list[str]:
                                        r["nodes"]) for r in bind]))  # fmt: skip
             out.append(h.section("Tracking", *parts, level=level))
         if (folder / "audit.json").is_file():
-            out.append(h.section("Cost audit", *_audit(json.loads(
-                (folder / "audit.json").read_text(encoding="utf-8"))), level=level))  # fmt: skip
-    except (OSError, ValueError, KeyError, TypeError) as exc:
+            audit = read_json_object(folder / "audit.json", "walk3d audit")
+            out.append(h.section("Cost audit", *_audit(audit), level=level))
+    except (OSError, ValueError, KeyError, TypeError, IndexError, AttributeError,
+            csv.Error) as exc:  # fmt: skip
         out.append(h.note(f"the tracking files could not be read: {exc}", "warning"))
     return out
 

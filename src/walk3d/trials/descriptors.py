@@ -107,8 +107,9 @@ def half_cycle_lag(ik: Storage, guess: float | None = None, spread: float = 0.3)
         raise ValueError("the IK file has no left and right sagittal leg angles")
     g = 0.55 if guess is None else float(guess)
     dt = float(np.median(np.diff(t)))
-    lags = np.arange(g * (1 - spread), g * (1 + spread), dt / 2)
-    lags = lags[lags < 0.8 * (t[-1] - t[0])]
+    lo, hi = g * (1 - spread), min(g * (1 + spread), 0.8 * (t[-1] - t[0]))
+    short = not (hi - lo > dt)  # fewer than 3 lags dt/2 apart: known before any is made
+    lags = np.zeros(0) if short else np.arange(lo, hi, dt / 2)
     if lags.size < 3:
         raise ValueError("the IK trial is too short to find the half-cycle lag")
     cost = np.zeros(lags.size)

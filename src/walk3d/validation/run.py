@@ -288,6 +288,10 @@ def _measured_fit(body, trials, tables, table_paths, pred, notes):
         kin = kinematics_from_table(tables[0], period)
         if not any(k.startswith("hip_flexion") for k in kin.angles):
             return None, None
+        if kin.pelvis_angles is None:  # the projection needs them, as for a trial's IK
+            notes.append(f"{table_paths[0].name}: no pelvis angles, so no walk3d ID of its "
+                         "angles")  # fmt: skip
+            return None, None
         td = period / 2 - t_hs
         fit = fit_measured_gait(kin, body, period=period, double_support=td,
                                 right_heel_strike=0.0, speed=speed)  # fmt: skip
