@@ -78,3 +78,19 @@ def test_the_check_catches_a_program_that_ends_with_a_traceback(tmp_path):
     p.send_signal(signal.SIGINT)
     _, err = p.communicate(timeout=30)
     assert _problem(p.returncode, err, 0.0, tmp_path / "o", signal.SIGINT, 1.0) is not None
+
+
+def test_an_import_failed_by_ctrl_c_counts_as_the_interrupt():
+    """A C extension interrupted while it is imported raises ImportError from the
+    KeyboardInterrupt (seen with scipy.spatial): that ends as Ctrl-C does, not with a
+    traceback; a plain ImportError does not (the control)."""
+    from walk3d.cli import _from_interrupt
+
+    try:
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as ki:
+            raise ImportError("initialization failed") from ki
+    except ImportError as exc:
+        assert _from_interrupt(exc)
+    assert not _from_interrupt(ImportError("no module named x"))

@@ -82,6 +82,18 @@ def _on_sigterm(_signum, _frame) -> None:
     raise KeyboardInterrupt
 
 
+def _from_interrupt(exc: BaseException) -> bool:
+    """Whether ``exc`` was caused by Ctrl-C or SIGTERM: a C extension interrupted while it is
+    imported raises ImportError ("initialization failed") from the KeyboardInterrupt."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
 def _needs_command(exc: Exception) -> str:
     """The line for a command group given no command (``walk3d atlas``), whose help Typer has
     just shown: its click error has no message."""
@@ -100,6 +112,8 @@ def _run(args: list[str]) -> None:
     except KeyboardInterrupt:
         _interrupted()
     except Exception as exc:  # Typer vendors click: match its exceptions by shape
+        if _from_interrupt(exc):
+            _interrupted()
         kind = type(exc).__name__
         if kind == "Exit":
             sys.exit(getattr(exc, "exit_code", 0))
