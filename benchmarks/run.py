@@ -141,7 +141,7 @@ def main(argv: list[str] | None = None) -> int:
         out = ipopt.solve(settings, seed)
         ev = evaluate_cycle(body, settings, out.x)
         g = settings.gait
-        checks = walking_checks(ev.prediction_arrays, g.period, g.double_support, g.mass)
+        checks = walking_checks(ev.prediction_arrays, g.period, g.double_support, g.mass, g.speed)
         label = terms.label(settings.model.criterion)
         crit = ev.criteria[label]["total"]
         runs.append({"seed": seed, "converged": out.converged, "status": out.status,

@@ -28,15 +28,25 @@ def _exit_at_once(signum: int, _frame: object) -> None:
 
 def _is_the_command() -> bool:
     """Whether this process is the ``walk3d`` command (or ``python -m walk3d.cli``), not a
-    program that imports walk3d."""
-    argv = getattr(_sys, "orig_argv", _sys.argv)
-    module = argv[argv.index("-m") + 1] if "-m" in argv[:-1] else None
-    return _os.path.basename(_sys.argv[0]) in ("walk3d", "walk3d.exe") or module == "walk3d.cli"
+    program that imports walk3d, nor a worker process started from the command."""
+    argv, orig = _sys.argv, _sys.orig_argv
+    if argv and argv[0] == "-m":  # while ``python -m MODULE`` imports MODULE's package
+        module = orig[-len(argv)] if len(orig) >= len(argv) else ""
+        return module.removeprefix("-m") == "walk3d.cli"
+    script = argv[0] if argv else ""
+    return _os.path.basename(script) in ("walk3d", "walk3d.exe") and orig[1:2] == [script]
+
+
+def _install(handler) -> None:
+    """``handler`` for SIGINT and SIGTERM, but not where the caller ignores them (a background
+    job of a non-interactive shell ignores Ctrl-C)."""
+    for sig in (_signal.SIGINT, _signal.SIGTERM):
+        if _signal.getsignal(sig) is not _signal.SIG_IGN:
+            _signal.signal(sig, handler)
 
 
 if _is_the_command() and _threading.current_thread() is _threading.main_thread():
-    for _sig in (_signal.SIGINT, _signal.SIGTERM):
-        _signal.signal(_sig, _exit_at_once)
+    _install(_exit_at_once)
 
 from walk3d.constants import G, __version__  # noqa: E402
 

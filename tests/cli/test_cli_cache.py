@@ -25,7 +25,7 @@ def test_cache_lists_and_clears_only_finished_entries(tmp_path):
     assert r.returncode == 0, r.stderr
     assert str(tmp_path) in r.stdout
     assert "1 model entries, 2 compiled libraries, 1 BLAS bridges, 0.0 MB" in r.stdout
-    assert "1 build folders of a build in progress, 0.0 MB" in r.stdout
+    assert "1 build folder of a build in progress, 0.0 MB" in r.stdout
     assert all(p.exists() for p in entries)  # listing deletes nothing
     r = _cache(tmp_path, "--clear")
     assert r.returncode == 0, r.stderr
@@ -89,9 +89,9 @@ def test_cache_clear_keeps_the_build_folders_while_a_compile_holds_the_lock(tmp_
         holder.kill()
         holder.wait()
     assert r.returncode == 0, r.stderr
-    assert "1 build folders of a compile in progress, 1.0 MB (kept)" in r.stdout
+    assert "1 build folder of a compile in progress, 1.0 MB (kept)" in r.stdout
     assert "deleted 0 files, 0.0 MB\n" in r.stdout and folder.is_dir()
-    assert "1 build folders of ended compiles" in _cache(tmp_path, "--clear").stdout
+    assert "1 build folder of ended compiles" in _cache(tmp_path, "--clear").stdout
     assert not folder.exists()
 
 

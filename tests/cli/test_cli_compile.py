@@ -84,4 +84,4 @@ def test_compile_removes_the_build_folders_of_ended_compiles(small, capsys):
     (left / "walk3d_full_hess_1.c").write_bytes(b"x" * 300_000)
     code, out, err = cli(capsys, "compile")
     assert code == 0, err
-    assert "removed 1 build folders of an ended compile, 0.3 MB" in out and not left.exists()
+    assert "removed 1 build folder of an ended compile, 0.3 MB" in out and not left.exists()

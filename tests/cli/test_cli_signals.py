@@ -49,7 +49,7 @@ def _problem(code: int, err: str, took: float, out, sig: signal.Signals, after_s
         check_complete(out)
         return None
     if code == -sig:  # before Python ran walk3d's first line: the signal's own action
-        ok = after_s < 1.0 and not err and not out.exists()  # (a shell reports 128 + N)
+        ok = after_s < 0.3 and not err and not out.exists()  # (a shell reports 128 + N)
         return None if ok else f"killed by the signal at {after_s} s: {err!r}"
     want_code, want_line = EXPECTED[sig]
     if code != want_code or err.strip().splitlines()[-1:] != [want_line]:
@@ -94,3 +94,46 @@ def test_an_import_failed_by_ctrl_c_counts_as_the_interrupt():
     except ImportError as exc:
         assert _from_interrupt(exc)
     assert not _from_interrupt(ImportError("no module named x"))
+
+
+_SHOW = (
+    "import signal, walk3d\nprint(getattr(signal.getsignal(signal.SIGTERM), '__name__', 'default'))"
+)
+
+
+def _handler_in(tmp_path, script: str, **kw) -> str:
+    path = tmp_path / "walk3d"  # a script of the command's name
+    path.write_text(script)
+    env = os.environ | {"PYTHONPATH": os.pathsep.join(sys.path)}
+    r = subprocess.run([sys.executable, str(path)], capture_output=True, text=True, timeout=60,
+                       env=env, **kw)  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    return r.stdout.strip().splitlines()[-1]
+
+
+def test_the_early_handlers_are_the_commands_alone(tmp_path):
+    """Importing walk3d in the ``walk3d`` command installs walk3d's handler at once; a program
+    importing walk3d (the control), a worker process started from the command (as Dask's) and
+    a command whose caller ignores the signal keep theirs."""
+    assert _handler_in(tmp_path, _SHOW) == "_exit_at_once"
+    plain = subprocess.run(
+        [sys.executable, "-c", _SHOW],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env=os.environ | {"PYTHONPATH": os.pathsep.join(sys.path)},
+    )
+    assert plain.stdout.strip() == "default", plain.stderr
+    spawned = (
+        "import multiprocessing as mp, signal\n"
+        "def show(q):\n"
+        "    import walk3d\n"
+        "    q.put(getattr(signal.getsignal(signal.SIGTERM), '__name__', 'default'))\n"
+        "if __name__ == '__main__':\n"
+        "    ctx = mp.get_context('spawn'); q = ctx.Queue()\n"
+        "    p = ctx.Process(target=show, args=(q,)); p.start(); print(q.get()); p.join()\n"
+    )
+    assert _handler_in(tmp_path, spawned) == "default"
+    ignored = "import signal, walk3d\nprint(signal.getsignal(signal.SIGTERM) == signal.SIG_IGN)"
+    hold = lambda: signal.signal(signal.SIGTERM, signal.SIG_IGN)  # noqa: E731
+    assert _handler_in(tmp_path, ignored, preexec_fn=hold) == "True"

@@ -77,3 +77,10 @@ def test_contact_checks_are_bounded():
     with pytest.raises(ValueError, match="contact checks"):
         _given(contact_checks=5)
     _given(contact_checks=4)
+
+
+def test_contact_and_loop_checks_do_not_go_together():
+    """Both would state the loop rows twice at the same instants (linearly dependent rows)."""
+    with pytest.raises(ValueError, match="set loop checks to 0"):
+        _given(contact_checks=1, loop_checks=1)
+    _given(loop_checks=1)  # the control: each alone

@@ -47,6 +47,16 @@ def _sweep_key(settings: dict) -> dict:
                 if (g, k) != ("solver", "threads")} for g, values in settings.items()}  # fmt: skip
 
 
+def _with_defaults(stored_: dict, key: dict) -> dict:
+    """``sweep.json``'s settings with each setting it lacks (one added to walk3d since it was
+    written) at its default: a sweep resumes across such a walk3d update when the new setting
+    keeps its default."""
+    defaults = PredictionSettings().model_dump(mode="json")
+    return {g: ({**{k: v for k, v in defaults.get(g, {}).items() if k in key.get(g, {})},
+                 **values} if isinstance(values, dict) else values)
+            for g, values in stored_.items()}  # fmt: skip
+
+
 def check_folder(out: Path, settings: PredictionSettings) -> None:
     """Write ``sweep.json``, or refuse (:class:`SweepMismatch`) a folder whose ``sweep.json``
     cannot be read, is not a sweep's or holds other settings."""
@@ -62,7 +72,7 @@ def check_folder(out: Path, settings: PredictionSettings) -> None:
             raise SweepMismatch(f"{path} cannot be read ({why}); use a new folder") from None
         if not isinstance(stored_.get("settings"), dict):
             raise SweepMismatch(f"{path} is not a walk3d sweep file; use a new folder")
-        if _sweep_key(stored_["settings"]) != _sweep_key(key):
+        if _sweep_key(_with_defaults(stored_["settings"], key)) != _sweep_key(key):
             raise SweepMismatch(f"{out} holds a sweep with other settings; use a new folder "
                                 "or the same options")  # fmt: skip
         return
@@ -72,6 +82,7 @@ def check_folder(out: Path, settings: PredictionSettings) -> None:
 
 PROBLEM_FIELDS = (("gait", "sex"), ("gait", "mass"), ("gait", "height"), ("gait", "free"),
                   ("solver", "nodes"), ("solver", "heel_strike_nodes"),
+                  ("solver", "contact_checks"),
                   *(("model", name) for name in ModelSettings.model_fields))  # fmt: skip
 """``(group, setting)`` that, with the speed, define the problem a stored speed must have
 solved to be resumed: the subject, the free descriptors, the grid and every model setting."""

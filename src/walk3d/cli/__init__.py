@@ -135,9 +135,12 @@ def main(argv: list[str] | None = None) -> None:
     (``walk3d body | head -1``) a quiet exit with code 141, as a tool ended by SIGPIPE. An
     error line that cannot be written (``2>/dev/full``) is dropped: the exit code stays."""
     args = list(sys.argv[1:] if argv is None else argv) or ["--help"]
+    previous = {}
     if threading.current_thread() is threading.main_thread():
-        signal.signal(signal.SIGTERM, _on_sigterm)
-        signal.signal(signal.SIGINT, signal.default_int_handler)
+        for sig, handler in ((signal.SIGTERM, _on_sigterm),
+                             (signal.SIGINT, signal.default_int_handler)):  # fmt: skip
+            if signal.getsignal(sig) is not signal.SIG_IGN:  # a background job's stays ignored
+                previous[sig] = signal.signal(sig, handler)
     stream, errors = sys.stdout, sys.stderr
     sys.stdout = GuardedStdout(stream)
     sys.stderr = QuietStderr(errors)
@@ -158,4 +161,6 @@ def main(argv: list[str] | None = None) -> None:
         code = EXIT_WRITE
     finally:
         sys.stdout, sys.stderr = stream, errors
+        for sig, handler in previous.items():  # an in-process caller gets its own back
+            signal.signal(sig, handler)
     sys.exit(code)

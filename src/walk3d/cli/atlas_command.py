@@ -119,7 +119,10 @@ def _walking(atlas, handover: int) -> str:
     speeds of those that do not."""
     from walk3d.campaign.atlas_checks import walking_entries
 
-    free, ho = walking_entries(atlas), walking_entries(atlas, handover=True)
+    try:
+        free, ho = walking_entries(atlas), walking_entries(atlas, handover=True)
+    except ValueError as exc:  # a file in atlas format for an unknown sex or preset
+        return f"cannot check: {' '.join(str(exc).split())}"
     out = f"{int(free.sum())} ({int(ho.sum())} of {handover})"
     fails = [f"{v:.1f}" for v, ok in zip(atlas.speeds, free, strict=True) if not ok]
     return out + (f"; not: {', '.join(fails)} m/s" if fails else "")

@@ -183,7 +183,9 @@ def run(key: str, job: Path) -> int:
                 return 0
             folders, size = compiled.remove_leftover_builds()
             if folders:
-                _say(f"removed {folders} build folders of an ended compile, {size / 1e6:.1f} MB")
+                plural = "" if folders == 1 else "s"
+                _say(f"removed {folders} build folder{plural} of an ended compile, "
+                     f"{size / 1e6:.1f} MB")  # fmt: skip
             with _group_guard(p["failed"]):
                 return _compile(key, text)
     except Exception as exc:  # noqa: BLE001 (recorded, so that no later prediction retries)

@@ -39,17 +39,21 @@ def cache_info(
     busy = [f for f in builds if f not in left]
     if busy:
         what = "a compile" if compiling else "a build"
-        console.print(f"{len(busy)} build folders of {what} in progress, {_mb(busy)} MB"
+        console.print(f"{_folders(len(busy))} of {what} in progress, {_mb(busy)} MB"
                       + (" (kept)" if clear else ""))  # fmt: skip
     if left and not clear:
-        console.print(f"{len(left)} build folders left by ended compiles, {_mb(left)} MB "
+        console.print(f"{_folders(len(left))} left by ended compiles, {_mb(left)} MB "
                       "(--clear removes them)")  # fmt: skip
     if clear:
         files, freed = model_cache.clear_entries()
         folders, size = _clear_builds() if left else (0, 0)
-        builds_part = f", and {folders} build folders of ended compiles, {size / 1e6:.1f} MB"
+        builds_part = f", and {_folders(folders)} of ended compiles, {size / 1e6:.1f} MB"
         console.print(f"deleted {files} files, {freed / 1e6:.1f} MB"
                       + (builds_part if folders else ""))  # fmt: skip
+
+
+def _folders(n: int) -> str:
+    return f"{n} build folder{'' if n == 1 else 's'}"
 
 
 def _mb(folders: list[Path]) -> str:

@@ -51,8 +51,9 @@ def compile_with_progress(settings: PredictionSettings, console: Console) -> Non
                 stack.enter_context(background.hold(lock, wait=True))
             folders, size = compiled.remove_leftover_builds()
             if folders:
-                console.print(f"walk3d compile: removed {folders} build folders of an ended "
-                              f"compile, {size / 1e6:.1f} MB")  # fmt: skip
+                plural = "" if folders == 1 else "s"
+                console.print(f"walk3d compile: removed {folders} build folder{plural} of an "
+                              f"ended compile, {size / 1e6:.1f} MB")  # fmt: skip
             info = _compile(settings, console)
         background.clear_failed()
     except OSError as exc:

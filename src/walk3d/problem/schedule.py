@@ -85,7 +85,7 @@ def schedule(settings: PredictionSettings) -> Schedule:
         weights = 0.5 * (gaps + np.roll(gaps, 1))
     td = settings.gait.double_support
     ds = tau <= td + 1e-9
-    checks = _check_times(tau[ds], td, settings.solver.contact_checks)
+    checks = _check_times(tau[ds], td, settings.solver.contact_checks, settings.gait.period)
     check = None
     if checks.size:
         weights = np.full(tau.size, h) if weights is None else weights
@@ -106,10 +106,12 @@ def schedule(settings: PredictionSettings) -> Schedule:
     )
 
 
-def _check_times(tau_ds: np.ndarray, td: float, per_interval: int) -> np.ndarray:
+def _check_times(tau_ds: np.ndarray, td: float, per_interval: int, period: float) -> np.ndarray:
     """``per_interval`` instants evenly inside each interval between the double-support node
-    times ``tau_ds`` (s after heel strike) and from the last of them to toe off ``td``."""
-    ends = np.concatenate([tau_ds, [td]]) if td - tau_ds[-1] > 1e-9 else tau_ds
+    times ``tau_ds`` (s after heel strike) and from the last of them to toe off ``td``, when
+    toe off is not on a node (as :func:`loop_check_times` judges it)."""
+    gap = td - tau_ds[-1] > 1e-6 * period
+    ends = np.concatenate([tau_ds, [td]]) if gap else tau_ds
     frac = np.arange(1, per_interval + 1) / (per_interval + 1)
     return (ends[:-1, None] + frac[None, :] * np.diff(ends)[:, None]).ravel()
 

@@ -168,6 +168,8 @@ class SolverSettings(SettingsGroup):
             (0 <= self.loop_checks <= 4, f"loop checks must be in [0, 4], got {self.loop_checks}"),
             (0 <= self.contact_checks <= 4,
              f"contact checks must be in [0, 4], got {self.contact_checks}"),
+            (not (self.contact_checks and self.loop_checks),
+             "contact checks hold the loop between the nodes too: set loop checks to 0"),
             (0 < self.loop_check_tolerance <= 0.05,
              f"loop check tolerance must be in (0, 0.05], got {self.loop_check_tolerance}"),
             (1 <= self.threads <= 64, f"threads must be in [1, 64], got {self.threads}"),

@@ -186,7 +186,8 @@ def build_library(
         src, lib = Path(tmp) / name, Path(tmp) / "lib.so"
         src.write_text(source, encoding="utf-8")
         cmd = [*cc, *before, "-shared", str(src), "-o", str(lib), *after]
-        run = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        env = os.environ | {"LC_ALL": "C"}  # the compiler's messages in English, as matched
+        run = subprocess.run(cmd, capture_output=True, text=True, check=False, env=env)
         if run.returncode != 0:  # the last line, or the one that says the disk is full
             lines = run.stderr.strip().splitlines()
             full = [ln for ln in lines if os.strerror(errno.ENOSPC) in ln]

@@ -106,8 +106,9 @@ def half_cycle_lag(ik: Storage, guess: float | None = None, spread: float = 0.3)
     if not pairs:
         raise ValueError("the IK file has no left and right sagittal leg angles")
     g = 0.55 if guess is None else float(guess)
-    dt = float(np.median(np.diff(t)))
     lo, hi = g * (1 - spread), min(g * (1 + spread), 0.8 * (t[-1] - t[0]))
+    # half the median sampling step, but no finer than 4 lags per sample over the span
+    dt = max(float(np.median(np.diff(t))), (hi - lo) / (2 * len(t)))
     short = not (hi - lo > dt)  # fewer than 3 lags dt/2 apart: known before any is made
     lags = np.zeros(0) if short else np.arange(lo, hi, dt / 2)
     if lags.size < 3:
