@@ -38,7 +38,7 @@ SLOW_HUMPS = ((0.40, 0.015), (0.55, 0.02), (0.70, 0.045), (1.00, 0.065), (1.15, 
 """``(speed m/s, least hump BW)``, linear in between and constant outside: just below the
 smaller hump of every limb measured at that speed (42 limb-trials of 8 young adults walking on
 a treadmill at 0.39–1.42 m/s, Fukuchi, Fukuchi & Duarte 2018, PeerJ 6:e4640; the lowest were
-0.020 BW at 0.43 m/s, 0.024 at 0.54, 0.052 at 0.68, 0.068 at 0.85, 0.073 at 1.00 and 0.204
+0.019 BW at 0.43 m/s, 0.024 at 0.54, 0.052 at 0.68, 0.067 at 0.85, 0.073 at 1.00 and 0.204
 at 1.17 m/s; docs/validation.md)."""
 
 
