@@ -153,26 +153,7 @@ def tracked_folder(result: Path, folder: Path) -> Path:
 
 def campaign_folder(result: Path, out: Path) -> Path:
     """A campaign folder (``walk3d campaign``'s layout) of three starts, copies of ``result``
-    (one not converged), ranked, with ``best/``, as tests/report/report_support.py makes it."""
-    import shutil
+    (one not converged), ranked, with ``best/``."""
+    from result_support import make_campaign
 
-    from walk3d.campaign import rank, store
-    from walk3d.campaign.ranking import update_best, write_ranking
-    from walk3d.campaign.task import record_from_summary
-    from walk3d.problem.settings import PredictionSettings
-
-    summary = json.loads((result / "summary.json").read_text(encoding="utf-8"))
-    settings = PredictionSettings(**summary["settings"])
-    store.open_campaign(out, settings, 0, 3, "ipopt")
-    for seed, converged in ((0, True), (1, False), (2, True)):
-        tmp = store.new_temporary(store.starts_dir(out), store.start_name(seed))
-        shutil.copytree(result, tmp, dirs_exist_ok=True)
-        s = summary | {"seed": seed, "converged": converged,
-                       "status": "Solve_Succeeded" if converged else "Infeasible"}  # fmt: skip
-        record = record_from_summary(s, settings.model.criterion, 10.0 + seed)
-        record["criterion_value"] = (record["criterion_value"] or 0.0) + seed
-        store.commit_start(tmp, seed, record)
-    rows = rank(out)
-    write_ranking(out, rows)
-    update_best(out, rows)
-    return out
+    return make_campaign(out, result, {0: True, 1: False, 2: True}, 3)

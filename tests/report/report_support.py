@@ -4,18 +4,12 @@ solver record made up: converged or not), and a fake campaign of such starts."""
 
 from __future__ import annotations
 
-import json
-import shutil
-import sys
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 from helpers import shared_data_dir
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verify"))
-from verify_support import evaluate_atlas  # noqa: E402, F401 - the shared atlas solution
+from result_support import evaluate_atlas, make_campaign  # noqa: F401 - shared without a solve
 
 DATA = shared_data_dir()
 needs_data = pytest.mark.skipif(
@@ -36,28 +30,3 @@ def make_prediction(settings, ev, converged: bool, seed: int = 0):
         x=np.zeros(3), handover=settings.model.handover,
     )  # fmt: skip
     return make(ev.prediction_arrays, summarize(settings, seed, outcome, ev, "ipopt"))
-
-
-def make_campaign(out: Path, source: Path, starts: dict[int, bool], requested: int) -> Path:
-    """A campaign folder whose starts are copies of the result folder ``source``, converged or
-    not as ``starts`` says, ranked with ``ranking.csv`` and ``best/`` as walk3d campaign does."""
-    from walk3d.campaign import rank, store
-    from walk3d.campaign.ranking import update_best, write_ranking
-    from walk3d.campaign.task import record_from_summary
-    from walk3d.problem.settings import PredictionSettings
-
-    summary = json.loads((source / "summary.json").read_text(encoding="utf-8"))
-    settings = PredictionSettings(**summary["settings"])
-    store.open_campaign(out, settings, 0, requested, "ipopt")
-    for seed, converged in starts.items():
-        tmp = store.new_temporary(store.starts_dir(out), store.start_name(seed))
-        shutil.copytree(source, tmp, dirs_exist_ok=True)
-        s = summary | {"seed": seed, "converged": converged,
-                       "status": "Solve_Succeeded" if converged else "Infeasible"}  # fmt: skip
-        record = record_from_summary(s, settings.model.criterion, 10.0 + seed)
-        record["criterion_value"] = (record["criterion_value"] or 0.0) + seed
-        store.commit_start(tmp, seed, record)
-    rows = rank(out)
-    write_ranking(out, rows)
-    update_best(out, rows)
-    return out

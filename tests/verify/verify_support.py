@@ -10,33 +10,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-import walk3d.solve.atlas as atlas_module
-
-SPEED = 1.3
+from result_support import SPEED, evaluate_atlas  # noqa: F401 - the shared atlas solution
 
 needs_opensim = pytest.mark.skipif(
     importlib.util.find_spec("opensim") is None,
     reason="OpenSim's Python package is not installed (pip install 'walk3d[opensim]')",
 )
-
-
-def evaluate_atlas():
-    """``(settings, body, evaluation)`` of the shipped male atlas solution at 1.3 m/s, with the
-    free landing it was solved with."""
-    from walk3d.problem.settings import PredictionSettings, body_for
-    from walk3d.results.evaluate import evaluate_cycle
-
-    path = Path(atlas_module.__file__).parent / "atlas_data" / "male-natural.json"
-    data = json.loads(path.read_text(encoding="utf-8"))
-    entry = next(e for e in data["entries"] if abs(e["speed"] - SPEED) < 1e-9)
-    settings = PredictionSettings(
-        gait={"speed": SPEED, "period": entry["period"],
-              "double_support": entry["double_support"]},
-        model=data["settings"]["model"] | {"handover": False},  # as the atlas solved it
-    )  # fmt: skip
-    body = body_for(settings)
-    return settings, body, evaluate_cycle(body, settings, np.array(entry["x"]))
 
 
 def atlas_prediction():
