@@ -32,9 +32,9 @@ _ATOMIC_TEMPORARY = re.compile(r"^\..+\.[0-9a-f]{12}\.\w+$")
 
 NAME_MAX_BYTES = 255
 """Longest file or folder name, bytes, that common file systems hold (ext4, XFS, APFS)."""
-TEMPORARY_BYTES = 22
-"""Bytes that walk3d's temporary siblings add to an output's name (``.tmp_old_<name>_<12 hex>``,
-:mod:`walk3d.io.atomic`): the output's own name may have at most 255 - 22."""
+TEMPORARY_BYTES = 24
+"""Bytes that walk3d's temporary siblings add to an output's name (``.tmp_<name>_<12 hex>.owner``,
+:mod:`walk3d.io.atomic`): the output's own name may have at most 255 - 24."""
 
 
 def _check_name(path: str | PathLike[str], option: str) -> None:

@@ -70,3 +70,37 @@ def test_new_folder_removes_only_the_folders_it_made_and_its_own_files(tmp_path)
         folder.mkdir()
         (folder / "a.csv").write_text("whole")
     assert (out / "a.csv").read_text() == "whole"
+
+
+def _ended_pid() -> int:
+    import subprocess
+    import sys
+
+    p = subprocess.Popen([sys.executable, "-c", "pass"])
+    p.wait()
+    return p.pid
+
+
+def test_the_next_run_removes_a_killed_runs_temporary_and_nothing_else(tmp_path):
+    """A run killed while it built ``out`` left ``.tmp_out_<hex>`` and its owner file: the next
+    build of ``out`` removes both. A temporary whose process still runs (this one), and a
+    user's folder of the same shape without an owner file, stay (the controls)."""
+    import socket
+
+    from walk3d.io.atomic import atomic_folder
+
+    host = socket.gethostname()
+    stale, alive, users = (tmp_path / f".tmp_out_{h}" for h in ("0000aaaa1111", "bbbb", "mine"))
+    for folder, pid in ((stale, _ended_pid()), (alive, os.getpid())):
+        folder.mkdir()
+        (folder / "summary.json").write_text("{}")
+        (tmp_path / f"{folder.name}.owner").write_text(f"{host} {pid}\n")
+    users.mkdir()
+    (users / "notes.txt").write_text("mine")
+    with atomic_folder(tmp_path / "out") as tmp:
+        (tmp / "a.txt").write_text("a")
+    assert not stale.exists() and not (tmp_path / f"{stale.name}.owner").exists()
+    assert alive.is_dir() and (users / "notes.txt").read_text() == "mine"
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["a.txt"]
+    left = sorted(p.name for p in tmp_path.iterdir())
+    assert left == [".tmp_out_bbbb", ".tmp_out_bbbb.owner", ".tmp_out_mine", "out"]

@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 import secrets
 import shutil
+import socket
 import stat
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -22,6 +23,7 @@ __all__ = [
     "atomic_write_text",
     "check_replaceable",
     "fsync_dir",
+    "remove_stale_temporaries",
     "temporary_sibling",
 ]
 
@@ -123,6 +125,42 @@ def fsync_dir(folder: Path) -> None:
         os.close(fd)
 
 
+OWNER_SUFFIX = ".owner"
+"""Beside a temporary folder while it is built (``.tmp_<name>_<random>.owner``): ``<host>
+<pid>`` of the process building it, so that a later run removes both once that process has
+ended, and nothing else."""
+
+
+def _ended(owner: Path) -> bool:
+    """Whether the process named in an owner file has ended on this host."""
+    try:
+        host, pid = owner.read_text(encoding="ascii").split()
+        if host != socket.gethostname():
+            return False
+        os.kill(int(pid), 0)
+    except ProcessLookupError:
+        return True
+    except (OSError, ValueError, UnicodeError):  # unreadable, another user's process, ...
+        return False
+    return False
+
+
+def remove_stale_temporaries(parent: Path, name: str) -> list[Path]:
+    """Remove the temporary folders ``parent/.tmp_<name>_*`` that a walk3d process killed
+    while building ``name`` left: those whose owner file names an ended process; returns
+    them. A user's folder of such a name has no owner file and stays."""
+    removed = []
+    for owner in parent.glob(f"{TMP_PREFIX}{name}_*{OWNER_SUFFIX}"):
+        folder = owner.with_name(owner.name.removesuffix(OWNER_SUFFIX))
+        if not owner.is_file() or not _ended(owner):
+            continue
+        if folder.is_dir() and not folder.is_symlink():
+            shutil.rmtree(folder, ignore_errors=True)
+            removed.append(folder)
+        owner.unlink(missing_ok=True)
+    return removed
+
+
 @contextmanager
 def atomic_folder(path: str | PathLike[str]) -> Iterator[Path]:
     """Build a folder in a temporary sibling ``.tmp_<name>_<random>``, then rename it to ``path``.
@@ -133,8 +171,11 @@ def atomic_folder(path: str | PathLike[str]) -> Iterator[Path]:
     """
     target = Path(path)
     tmp = temporary_sibling(target.parent, target.name)
-    tmp.mkdir()
+    owner = tmp.with_name(tmp.name + OWNER_SUFFIX)
+    owner.write_text(f"{socket.gethostname()} {os.getpid()}\n", encoding="ascii")
     try:
+        tmp.mkdir()
+        remove_stale_temporaries(target.parent, target.name)
         yield tmp
         fsync_dir(tmp)
         if target.exists():
@@ -147,4 +188,6 @@ def atomic_folder(path: str | PathLike[str]) -> Iterator[Path]:
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
+    finally:
+        owner.unlink(missing_ok=True)
     fsync_dir(target.parent)
