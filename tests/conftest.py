@@ -1,11 +1,13 @@
-"""Shared fixtures: smooth random motions evaluated numerically."""
+"""Shared fixtures: smooth random motions evaluated numerically, and the measured lab data."""
 
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import shared_data_dir
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 # no test starts a background compile (walk3d.cli.background) unless it asks for one
@@ -20,6 +22,15 @@ from walk3d.kinematics.forward import (  # noqa: E402
 )
 
 PERIOD = 1.08
+
+
+@pytest.fixture(scope="session")
+def data_dir() -> Path:
+    """The shared data folder; skips the test when it is absent."""
+    root = shared_data_dir()
+    if not (root / "README.md").is_file():
+        pytest.skip(f"measured data not found at {root} (set WALK3D_SHARED_DATA)")
+    return root
 
 
 @pytest.fixture(scope="session", autouse=True)

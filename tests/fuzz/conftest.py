@@ -8,7 +8,6 @@ from pathlib import Path
 
 import fuzz_seeds
 import pytest
-from helpers import shared_data_dir
 from result_support import result_folder
 
 MEMORY_CAP = 8 * 2**30
@@ -33,15 +32,6 @@ def made_seeds(tmp_path_factory) -> dict[str, Path]:
         "criterion": fuzz_seeds.criterion_toml(root / "weights.toml"),
         "trials": fuzz_seeds.trials_toml(root / "trials.toml", table),
     }
-
-
-@pytest.fixture(scope="session")
-def shared() -> Path:
-    """The shared measured-data folder; skips the case when it is absent."""
-    root = shared_data_dir()
-    if not (root / "README.md").is_file():
-        pytest.skip(f"measured data not found at {root} (set WALK3D_SHARED_DATA)")
-    return root
 
 
 @pytest.fixture(scope="session")

@@ -101,7 +101,7 @@ SUBJECT01 = {"ik01": "opensim_subject01/subject01_walk1_ik.mot",
 def _seed_file(seed: str, made: dict[str, Path], request) -> Path:  # noqa: ANN001
     _, source, rel = SEEDS[seed]
     if source == "shared":
-        return request.getfixturevalue("shared") / rel
+        return request.getfixturevalue("data_dir") / rel
     return made[source] / rel if source in FOLDERS else made[seed]
 
 
@@ -133,7 +133,7 @@ def _listed(manifest: Path) -> set[str]:
 def _trial(seed: str, target: Path, request) -> dict[str, Path]:  # noqa: ANN001
     """The Falisse trial's IK, GRF and ID files (the treadmill's IK and GRF for its seeds),
     ``target`` in place of the damaged one."""
-    shared = request.getfixturevalue("shared")
+    shared = request.getfixturevalue("data_dir")
     if seed in SUBJECT01:
         files = {k[:-2]: shared / rel for k, rel in SUBJECT01.items()}
         return files | {seed[:-2]: target}

@@ -5,16 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from helpers import shared_data_dir
-
-
-@pytest.fixture(scope="session")
-def data_dir() -> Path:
-    """The shared data folder; skips the test when it is absent."""
-    root = shared_data_dir()
-    if not (root / "README.md").is_file():
-        pytest.skip(f"measured data not found at {root} (set WALK3D_SHARED_DATA)")
-    return root
 
 
 @pytest.fixture(scope="session")
