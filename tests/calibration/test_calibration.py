@@ -57,6 +57,43 @@ def test_malformed_calibration_names_file_and_line(tmp_path, edit, message, line
     assert info.value.line is not None
 
 
+BAD_FILES = [
+    (lambda d: d["rollover"]["ankle_m"][0].__setitem__(0, 1e9), "more than 1 m"),
+    (lambda d: d["rollover"]["ankle_m"][2].__setitem__(1, 5.0), "more than 1 m"),
+    (lambda d: d["transition"].update(mu_x=-0.2), "mu_x' must be in"),
+    (lambda d: d["transition"].update(mu_x=40.0), "mu_x' must be in"),
+    (lambda d: d["transition"].update(varpi_y=1e300), "varpi_y' must be in"),
+    (
+        lambda d: d["rollover"].update(s=[0.1 * (i + 1) for i in range(len(d["rollover"]["s"]))]),
+        "flat foot",
+    ),
+    (lambda d: d["rollover"]["s"].reverse(), "strictly increasing"),
+]
+
+
+def _as_settings(d: dict) -> dict:
+    """The settings fields ``walk3d predict --calibration`` makes of a calibration dict."""
+    tr = d["transition"]
+    return {
+        "rollover_s": tuple(d["rollover"]["s"]),
+        "rollover_ankle": tuple(tuple(p) for p in d["rollover"]["ankle_m"]),
+        "transition_ratios": tuple(tr[k] for k in ("mu_x", "mu_z", "varpi_x", "varpi_y")),
+    }
+
+
+@pytest.mark.parametrize("edit,message", BAD_FILES)
+def test_the_api_refuses_what_the_file_reader_refuses(edit, message):
+    """``ModelSettings`` runs the calibration file's value checks (one validator), before any
+    solve; the file's own values (the control) pass."""
+    from walk3d.model.settings import ModelSettings
+
+    data = sample_calibration().to_dict()
+    ModelSettings(**_as_settings(data))
+    edit(data)
+    with pytest.raises(ValueError, match=message):
+        ModelSettings(**_as_settings(data))
+
+
 def test_calibration_that_is_not_json(tmp_path):
     path = tmp_path / "cal.json"
     path.write_text('{"walk3d_calibration": 1,\n "rollover": [1, 2,\n')

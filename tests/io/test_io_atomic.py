@@ -1,8 +1,12 @@
 """The atomic writers replace regular files only: a device, FIFO or socket at the target (or a
-link to one) is refused and left as it is."""
+link to one) is refused and left as it is; a folder's commit is never cut in half by a
+signal."""
 
+import contextlib
 import os
+import shutil
 import stat
+from pathlib import Path
 
 import pytest
 from helpers import cli, one_line_error
@@ -104,3 +108,59 @@ def test_the_next_run_removes_a_killed_runs_temporary_and_nothing_else(tmp_path)
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["a.txt"]
     left = sorted(p.name for p in tmp_path.iterdir())
     assert left == [".tmp_out_bbbb", ".tmp_out_bbbb.owner", ".tmp_out_mine", "out"]
+
+
+def test_a_signal_between_the_two_renames_waits_for_the_commit(tmp_path, monkeypatch):
+    """Ctrl-C as the old folder is moved aside: the new folder still takes its name, no
+    ``.tmp_old_`` copy is left, and the KeyboardInterrupt comes after; without the deferral
+    (the control) the old folder is left aside and the name is empty."""
+    import signal
+
+    import walk3d.io.atomic as atomic
+
+    target = tmp_path / "out"
+    real_rename = os.rename
+
+    def rename_then_signal(src, dst):
+        real_rename(src, dst)
+        if Path(src) == target:  # the old folder has just been moved aside
+            signal.raise_signal(signal.SIGINT)
+
+    for deferred in (True, False):
+        target.mkdir()
+        (target / "old.txt").write_text("old")
+        monkeypatch.setattr(atomic.os, "rename", rename_then_signal)
+        if not deferred:
+            monkeypatch.setattr(atomic, "signals_deferred", contextlib.nullcontext)
+        with pytest.raises(KeyboardInterrupt):
+            with atomic.atomic_folder(target) as tmp:
+                (tmp / "new.txt").write_text("new")
+        monkeypatch.undo()
+        left = sorted(p.name for p in tmp_path.iterdir())
+        if deferred:
+            assert left == ["out"] and (target / "new.txt").is_file(), left
+        else:
+            assert not target.exists() and left[0].startswith(".tmp_old_out_"), left
+        shutil.rmtree(tmp_path)
+        tmp_path.mkdir()
+
+
+@pytest.mark.parametrize("committed", [False, True])
+def test_a_run_killed_while_it_committed_gets_the_old_folder_back(tmp_path, committed):
+    """Killed (-9) between the two renames: the old result waits in ``.tmp_old_out_<hex>`` and
+    ``out`` is missing; the next run puts it back before it builds. Killed after the second
+    rename (the control): ``out`` is the new folder and the old copy is removed."""
+    import socket
+
+    from walk3d.io.atomic import remove_stale_temporaries
+
+    tmp, old = tmp_path / ".tmp_out_0000aaaa1111", tmp_path / ".tmp_old_out_0000aaaa1111"
+    (tmp_path / f"{tmp.name}.owner").write_text(f"{socket.gethostname()} {_ended_pid()}\n")
+    old.mkdir()
+    (old / "summary.json").write_text("old")
+    new = tmp_path / "out" if committed else tmp
+    new.mkdir()
+    (new / "summary.json").write_text("new")
+    remove_stale_temporaries(tmp_path, "out")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    assert (tmp_path / "out" / "summary.json").read_text() == ("new" if committed else "old")

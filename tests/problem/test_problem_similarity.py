@@ -133,7 +133,7 @@ def test_the_reference_subject_is_solved_as_given():
     heavier, s = sim.reference_problem(base.replace(**{"mass": 90.0}))
     assert s == 1.0 and heavier == base  # only the mass differed
     ankle = [(0.0, 0.08, 0.0), (0.05, 0.075, 0.0), (0.1, 0.07, 0.0)]
-    calibrated = PredictionSettings(height=1.6, rollover_s=[0.0, 0.1, 0.2], rollover_ankle=ankle)
+    calibrated = PredictionSettings(height=1.6, rollover_s=[-0.1, 0.1, 0.2], rollover_ankle=ankle)
     ref, s = sim.reference_problem(calibrated)
     assert s == pytest.approx(1.6 / 1.77) and ref.gait.height == sim.REFERENCE_HEIGHT_M
     assert ref.model.rollover_s == calibrated.model.rollover_s  # foot rotations: no unit

@@ -11,6 +11,7 @@ shared options in :mod:`walk3d.cli.common`.
 
 from __future__ import annotations
 
+import functools
 import os
 import signal
 import sys
@@ -82,6 +83,21 @@ def _on_sigterm(_signum, _frame) -> None:
     raise KeyboardInterrupt
 
 
+def _on_unraisable(unraisable, previous=sys.__unraisablehook__) -> None:
+    """A Ctrl-C or SIGTERM that Python swallowed because it came inside a finalizer or a weakref
+    callback ("Exception ignored in ..."): the signal is sent again from a thread, so that the
+    main thread gets it at its next step, in code that can stop; anything else goes to the
+    ``previous`` hook."""
+    exc = unraisable.exc_value
+    if not isinstance(exc, KeyboardInterrupt):
+        previous(unraisable)
+        return
+    progress = _progress_module()
+    term = bool(_TERMINATED) or (progress is not None and isinstance(exc, progress.Terminated))
+    sig = signal.SIGTERM if term else signal.SIGINT
+    threading.Thread(target=os.kill, args=(os.getpid(), sig), daemon=True).start()
+
+
 def _from_interrupt(exc: BaseException) -> bool:
     """Whether ``exc`` was caused by Ctrl-C or SIGTERM: a C extension interrupted while it is
     imported raises ImportError ("initialization failed") from the KeyboardInterrupt."""
@@ -141,7 +157,9 @@ def main(argv: list[str] | None = None) -> None:
                              (signal.SIGINT, signal.default_int_handler)):  # fmt: skip
             if signal.getsignal(sig) is not signal.SIG_IGN:  # a background job's stays ignored
                 previous[sig] = signal.signal(sig, handler)
-    stream, errors = sys.stdout, sys.stderr
+    stream, errors, unraisable = sys.stdout, sys.stderr, sys.unraisablehook
+    if previous:
+        sys.unraisablehook = functools.partial(_on_unraisable, previous=unraisable)
     sys.stdout = GuardedStdout(stream)
     sys.stderr = QuietStderr(errors)
     try:
@@ -160,7 +178,7 @@ def main(argv: list[str] | None = None) -> None:
         sys.stderr.write(f"walk3d: error: cannot write the output: {str(exc).lower()}\n")
         code = EXIT_WRITE
     finally:
-        sys.stdout, sys.stderr = stream, errors
+        sys.stdout, sys.stderr, sys.unraisablehook = stream, errors, unraisable
         for sig, handler in previous.items():  # an in-process caller gets its own back
             signal.signal(sig, handler)
     sys.exit(code)

@@ -11,6 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from walk3d.cli import changes as what_if
+from walk3d.cli import finished
 from walk3d.cli.changes import AddedMass, EqualSteps, FullCycle, LegLength, Range, Strength
 from walk3d.cli.common import (
     EXIT_NOT_WALKING,
@@ -228,6 +229,19 @@ def predict(
         **calibration_fields(calibration),
         **what_if.changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
     )  # fmt: skip
+    before = finished.identity(out)
+    try:
+        _predict_and_show(settings, seed, solver, out, animate, compile_later, start)
+    except KeyboardInterrupt:
+        code = finished.code_if_written(out, before)  # the signal came once the result was whole
+        if code is None:
+            raise
+        raise typer.Exit(code) from None
+
+
+def _predict_and_show(settings, seed: int, solver: str, out: str, animate: bool,
+                      compile_later: bool, start: str) -> None:  # fmt: skip
+    """Solve, write the folder and its report, print the table; the exit code as typer.Exit."""
     from walk3d.io.errors import OutputWriteError
     from walk3d.pipeline import predict as run
     from walk3d.report.writer import write_report_or_warn

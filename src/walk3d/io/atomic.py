@@ -6,8 +6,10 @@ from __future__ import annotations
 import os
 import secrets
 import shutil
+import signal
 import socket
 import stat
+import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from os import PathLike
@@ -24,6 +26,7 @@ __all__ = [
     "check_replaceable",
     "fsync_dir",
     "remove_stale_temporaries",
+    "signals_deferred",
     "temporary_sibling",
 ]
 
@@ -148,7 +151,8 @@ def _ended(owner: Path) -> bool:
 def remove_stale_temporaries(parent: Path, name: str) -> list[Path]:
     """Remove the temporary folders ``parent/.tmp_<name>_*`` that a walk3d process killed
     while building ``name`` left: those whose owner file names an ended process; returns
-    them. A user's folder of such a name has no owner file and stays."""
+    them. A user's folder of such a name has no owner file and stays. An old folder that such a
+    run had moved aside to commit is put back, or removed once the new one is in place."""
     removed = []
     for owner in parent.glob(f"{TMP_PREFIX}{name}_*{OWNER_SUFFIX}"):
         folder = owner.with_name(owner.name.removesuffix(OWNER_SUFFIX))
@@ -157,8 +161,48 @@ def remove_stale_temporaries(parent: Path, name: str) -> list[Path]:
         if folder.is_dir() and not folder.is_symlink():
             shutil.rmtree(folder, ignore_errors=True)
             removed.append(folder)
+        _settle_old(parent / name, _old_name(folder))
         owner.unlink(missing_ok=True)
     return removed
+
+
+def _old_name(tmp: Path) -> Path:
+    """Where :func:`atomic_folder` moves the folder that ``tmp`` replaces, while it commits:
+    ``.tmp_old_<name>_<random>``, the random part of ``tmp``'s own."""
+    return tmp.with_name(f"{TMP_PREFIX}old_{tmp.name.removeprefix(TMP_PREFIX)}")
+
+
+def _settle_old(target: Path, old: Path) -> None:
+    """After a run killed while it committed: the old folder goes back to ``target`` if the
+    kill came between the two renames (``target`` is missing), else it is removed."""
+    if not old.is_dir() or old.is_symlink():
+        return
+    if os.path.lexists(target):
+        shutil.rmtree(old, ignore_errors=True)
+    else:
+        os.rename(old, target)
+
+
+@contextmanager
+def signals_deferred() -> Iterator[None]:
+    """Inside this block Ctrl-C (SIGINT) and SIGTERM are held, and delivered again as it ends:
+    a commit (two renames) is never cut in half, so the old folder is never left aside. Only
+    the main thread can set handlers; elsewhere, and for an ignored signal, it does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held: list[int] = []
+    previous = {}
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        if signal.getsignal(sig) not in (signal.SIG_IGN, None):
+            previous[sig] = signal.signal(sig, lambda signum, _frame: held.append(signum))
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        for sig in dict.fromkeys(held):
+            signal.raise_signal(sig)
 
 
 @contextmanager
@@ -178,16 +222,18 @@ def atomic_folder(path: str | PathLike[str]) -> Iterator[Path]:
         remove_stale_temporaries(target.parent, target.name)
         yield tmp
         fsync_dir(tmp)
-        if target.exists():
-            old = target.parent / f"{TMP_PREFIX}old_{target.name}_{secrets.token_hex(6)}"
-            os.rename(target, old)
-            os.rename(tmp, target)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.rename(tmp, target)
+        with signals_deferred():  # the two renames and the old folder's removal: all or none
+            if target.exists():
+                old = _old_name(tmp)
+                os.rename(target, old)
+                os.rename(tmp, target)
+                shutil.rmtree(old, ignore_errors=True)
+            else:
+                os.rename(tmp, target)
+            owner.unlink(missing_ok=True)
+            fsync_dir(target.parent)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     finally:
         owner.unlink(missing_ok=True)
-    fsync_dir(target.parent)

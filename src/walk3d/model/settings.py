@@ -17,7 +17,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, field_validator, model_validator
 
-from walk3d.model import terms
+from walk3d.model import calibrated, terms
 from walk3d.model.element import Element
 from walk3d.model.tracking import Tracking
 from walk3d.model.whatif import Changes
@@ -177,6 +177,9 @@ class ModelSettings(SettingsGroup):
             ((self.rollover_s is None) == (self.rollover_ankle is None)
              and (self.rollover_s is None or len(self.rollover_s) == len(self.rollover_ankle)),
              "rollover_s and rollover_ankle go together, one ankle point per knot"),
+            (not (calibration := calibrated.problem(self.rollover_s, self.rollover_ankle,
+                                                    self.transition_ratios)),
+             f"calibration: {calibration}"),
             ("track" not in terms.parse(self.criterion) or self.tracking is not None,
              "the criterion term track needs a measured gait to follow (walk3d track)"),
         ])  # fmt: skip
