@@ -8,7 +8,8 @@ at -O0), with equal values (docs/solver.md, "Compiled derivatives").
 
 An entry is one library per function, ``lib-<key>-<function name>.so`` in
 :func:`walk3d.solve.model_cache.cache_dir`. It is compiled in a temporary folder next to it,
-``.build-<pid>-<random>`` (:data:`BUILD_PREFIX`, the building process's pid), and moved into
+``.build-<pid>-<start time>-<random>`` (:data:`BUILD_PREFIX`, the building process's pid and
+start time, :mod:`walk3d.io.processes`; the pid alone without ``/proc``), and moved into
 place with ``os.replace``, so a concurrent reader sees either no library or a whole one. A
 killed compile leaves its folders: the next compile start and ``walk3d cache --clear`` remove
 them (:func:`remove_leftover_builds`). A library that does not load counts as missing.
@@ -41,6 +42,7 @@ from pathlib import Path
 
 import casadi as ca
 
+from walk3d.io import processes
 from walk3d.io.atomic import atomic_write_text
 from walk3d.solve.model_cache import cache_dir
 
@@ -181,7 +183,9 @@ def build_library(
     (or its line that reports a full disk: ``ld``'s last line only says that it failed) if it
     fails."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    prefix = f"{BUILD_PREFIX}{os.getpid()}-"  # whose it is: :func:`leftover_builds`
+    started = processes.start_time(os.getpid())
+    owner = os.getpid() if started is None else f"{os.getpid()}-{started}"
+    prefix = f"{BUILD_PREFIX}{owner}-"  # whose it is: :func:`leftover_builds`
     with tempfile.TemporaryDirectory(dir=path.parent, prefix=prefix) as tmp:
         src, lib = Path(tmp) / name, Path(tmp) / "lib.so"
         src.write_text(source, encoding="utf-8")
@@ -208,27 +212,15 @@ def build_folders() -> list[Path]:
         return []
 
 
-def _running(pid: int) -> bool:
-    """Whether process ``pid`` runs on this machine (a zombie, ended but not reaped, does not)."""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:  # another user's: it exists
-        pass
-    try:
-        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
-    except (OSError, IndexError):  # no /proc (macOS)
-        return True
-
-
 def leftover_builds() -> list[Path]:
-    """The build folders whose process no longer runs here (``.build-<pid>-...``; any without
-    a pid): a killed compile's. A folder of a running build, on this machine, is not one."""
+    """The build folders whose process no longer runs here (``.build-<pid>-[<start time>-]...``;
+    any without a pid): a killed compile's. A folder of a running build, on this machine, is
+    not one; one whose pid another process has now is (its start time differs)."""
     out = []
     for folder in build_folders():
-        pid = folder.name[len(BUILD_PREFIX) :].split("-", 1)[0]
-        if not (pid.isdigit() and int(pid) > 0 and _running(int(pid))):
+        pid, *rest = folder.name[len(BUILD_PREFIX) :].split("-")  # the random part has no "-"
+        started = int(rest[0]) if len(rest) == 2 and rest[0].isdigit() else None
+        if not (pid.isdigit() and processes.running(int(pid), started)):
             out.append(folder)
     return out
 
