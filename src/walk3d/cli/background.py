@@ -16,10 +16,11 @@ by its process); per compile target (:func:`target_id`), ``compile-<id>.log`` (t
 compile of that target starts again until ``walk3d compile`` succeeds, which deletes every such
 file).
 
-The compiling process leads its own process group, and its compilers (and theirs: gcc's
-``cc1``) run in it. A guard process in the group (:func:`_group_guard`) ends the group when
-the compiling process dies without saying it is done (``kill -9``, SIGTERM, out of memory),
-and writes the failure marker. Build folders left by a killed compile are removed when the
+The compilers (and theirs: gcc's ``cc1``) run in a guarded process group of their own, ended
+when the compiling process dies (:mod:`walk3d.solve.compiler_group`). The compiling process
+leads its own group too, with a guard process (:func:`_group_guard`) that writes the failure
+marker and ends that group when the process dies without saying it is done (``kill -9``,
+SIGTERM, out of memory). Build folders left by a killed compile are removed when the
 next compile starts (:func:`walk3d.solve.compiled.remove_leftover_builds`).
 """
 
