@@ -256,7 +256,8 @@ process group, and writes the failure marker (argument 1)."""
 @contextmanager
 def _group_guard(marker: Path) -> Iterator[None]:
     """For the block, a guard process in this process group (:data:`_GUARD`): should this
-    process die, however, the compilers in its group die too. The caller leads the group."""
+    process die, however, the failure marker says so and the group ends with it (its compilers
+    end by their own guard, :mod:`walk3d.solve.compiler_group`). The caller leads the group."""
     read, write = os.pipe()  # not inherited by the compilers: only the guard reads it
     try:
         guard = subprocess.Popen([sys.executable, "-c", _GUARD, str(marker)], stdin=read,
