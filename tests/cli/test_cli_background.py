@@ -1,7 +1,6 @@
 """walk3d predict's background compile (walk3d.cli.background): when it starts, when it does not,
 the lock, and what the background process leaves behind."""
 
-import contextlib
 import os
 import signal
 import subprocess
@@ -9,6 +8,7 @@ import sys
 import time
 
 import pytest
+from compiler_support import alive, end, fake_compile, wait_gone
 
 from walk3d import api
 from walk3d.cli import background
@@ -133,14 +133,8 @@ def test_the_background_process_leaves_a_held_lock_alone(tmp_path, monkeypatch):
     assert not p["json"].exists() and not p["failed"].exists()
 
 
-FAKE_CC = """#!/bin/sh
-# a compiler that never ends: itself and a child (as gcc runs cc1), their pids recorded
-echo $$ >> "$WALK3D_TEST_PIDS"
-sleep 300 &
-echo $! >> "$WALK3D_TEST_PIDS"
-wait
-"""
 FAKE_COMPILE = """
+import contextlib
 import sys
 from pathlib import Path
 
@@ -148,7 +142,7 @@ import casadi as ca
 
 import walk3d.solve.solver as solver
 from walk3d.cli import background
-from walk3d.solve import compiled
+from walk3d.solve import compiled, compiler_group
 
 
 def compile_solver(settings, on_done=None, jobs=None):
@@ -161,63 +155,9 @@ def compile_solver(settings, on_done=None, jobs=None):
 solver.compile_solver = compile_solver
 if sys.argv[1] == "background":
     sys.exit(background.run(sys.argv[2], Path(sys.argv[3])))
+compiler_group.guarded_group = contextlib.nullcontext  # the compilers' own guard off
 compile_solver(None)  # the compile alone, no background process around it
 """
-
-
-def _state(pid: int) -> str | None:
-    """The process's state letter (R, S, Z...), None when it is gone."""
-    try:
-        stat = open(f"/proc/{pid}/stat").read()
-    except FileNotFoundError:
-        return None
-    except OSError:  # no /proc: signal 0 tells whether it exists
-        try:
-            os.kill(pid, 0)
-        except ProcessLookupError:
-            return None
-        return "?"
-    return stat.rsplit(")", 1)[1].split()[0]
-
-
-def _alive(pids) -> list[int]:
-    return [p for p in pids if _state(p) not in (None, "Z")]
-
-
-def _fake_compile(tmp_path, *args):
-    """A process running :data:`FAKE_COMPILE` (its own session, as :func:`background._spawn`
-    starts it) once both compilers and their children run; their four pids."""
-    cc, pids = tmp_path / "cc", tmp_path / "pids"
-    cc.write_text(FAKE_CC)
-    cc.chmod(0o755)
-    env = os.environ | {"WALK3D_CACHE_DIR": str(tmp_path), "CC": str(cc),
-                        "WALK3D_TEST_PIDS": str(pids)}  # fmt: skip
-    log = open(tmp_path / "log", "wb")
-    proc = subprocess.Popen([sys.executable, "-c", FAKE_COMPILE, *args], env=env, stdout=log,
-                            stderr=subprocess.STDOUT, start_new_session=True)  # fmt: skip
-    for _ in range(600):
-        found = [int(s) for s in pids.read_text().split()] if pids.exists() else []
-        if len(found) == 4 or proc.poll() is not None:
-            break
-        time.sleep(0.1)
-    assert len(found) == 4, (tmp_path / "log").read_text()
-    return proc, found
-
-
-def _wait_gone(pids, seconds: float = 10.0) -> list[int]:
-    for _ in range(int(seconds * 10)):
-        if not _alive(pids):
-            break
-        time.sleep(0.1)
-    return _alive(pids)
-
-
-def _end(proc, pids) -> None:
-    """Teardown: the processes this test started, by their ids."""
-    for pid in [proc.pid, *_alive(pids)]:
-        with contextlib.suppress(ProcessLookupError):
-            os.kill(pid, signal.SIGKILL)
-    proc.wait()
 
 
 @pytest.mark.skipif(not background.POSIX, reason="process groups are POSIX")
@@ -229,16 +169,16 @@ def test_the_compilers_die_with_the_background_process(tmp_path, monkeypatch, ho
     monkeypatch.setenv("WALK3D_CACHE_DIR", str(tmp_path))
     job = tmp_path / "compile-0123456789abcdef-test.json"
     job.write_text(SETTINGS.model_dump_json())
-    proc, pids = _fake_compile(tmp_path, "background", "0123456789abcdef", str(job))
+    proc, pids = fake_compile(tmp_path, FAKE_COMPILE, "background", "0123456789abcdef", str(job))
     try:
         if how == "kill-9-group":
             os.killpg(proc.pid, signal.SIGKILL)
         else:
             os.kill(proc.pid, signal.SIGTERM if how == "sigterm" else signal.SIGKILL)
         proc.wait(timeout=30)
-        assert _wait_gone(pids) == [], (tmp_path / "log").read_text()
+        assert wait_gone(pids) == [], (tmp_path / "log").read_text()
     finally:
-        _end(proc, pids)
+        end(proc, pids)
     if how != "kill-9-group":  # the guard, in the group, is killed with it
         lines = background.paths("0123456789abcdef")["failed"].read_text().splitlines()
         assert len(lines) == 1 and lines[0].startswith("Killed:"), lines  # no background retry
@@ -247,16 +187,17 @@ def test_the_compilers_die_with_the_background_process(tmp_path, monkeypatch, ho
 
 @pytest.mark.skipif(not background.POSIX, reason="process groups are POSIX")
 def test_compilers_of_a_compile_outside_the_background_process_outlive_a_kill(tmp_path):
-    """Negative control: the same compile killed without the background process around it
-    leaves its compilers running, as the background process did, so the check above can fail."""
-    proc, pids = _fake_compile(tmp_path, "alone")
+    """Negative control: the same compile killed without the background process around it, and
+    without the compilers' own guard (walk3d.solve.compiler_group), leaves its compilers
+    running, as the background process did, so the check above can fail."""
+    proc, pids = fake_compile(tmp_path, FAKE_COMPILE, "unguarded")
     try:
         os.kill(proc.pid, signal.SIGKILL)
         proc.wait(timeout=30)
         time.sleep(1.0)
-        assert len(_alive(pids)) == 4
+        assert len(alive(pids)) == 4
     finally:
-        _end(proc, pids)
+        end(proc, pids)
 
 
 def test_a_compile_lock_that_is_a_folder_is_a_one_line_failure_marker(tmp_path, spawned):

@@ -16,10 +16,11 @@ by its process); per compile target (:func:`target_id`), ``compile-<id>.log`` (t
 compile of that target starts again until ``walk3d compile`` succeeds, which deletes every such
 file).
 
-The compiling process leads its own process group, and its compilers (and theirs: gcc's
-``cc1``) run in it. A guard process in the group (:func:`_group_guard`) ends the group when
-the compiling process dies without saying it is done (``kill -9``, SIGTERM, out of memory),
-and writes the failure marker. Build folders left by a killed compile are removed when the
+The compilers (and theirs: gcc's ``cc1``) run in a guarded process group of their own, ended
+when the compiling process dies (:mod:`walk3d.solve.compiler_group`). The compiling process
+leads its own group too, with a guard process (:func:`_group_guard`) that writes the failure
+marker and ends that group when the process dies without saying it is done (``kill -9``,
+SIGTERM, out of memory). Build folders left by a killed compile are removed when the
 next compile starts (:func:`walk3d.solve.compiled.remove_leftover_builds`).
 """
 
@@ -255,7 +256,8 @@ process group, and writes the failure marker (argument 1)."""
 @contextmanager
 def _group_guard(marker: Path) -> Iterator[None]:
     """For the block, a guard process in this process group (:data:`_GUARD`): should this
-    process die, however, the compilers in its group die too. The caller leads the group."""
+    process die, however, the failure marker says so and the group ends with it (its compilers
+    end by their own guard, :mod:`walk3d.solve.compiler_group`). The caller leads the group."""
     read, write = os.pipe()  # not inherited by the compilers: only the guard reads it
     try:
         guard = subprocess.Popen([sys.executable, "-c", _GUARD, str(marker)], stdin=read,

@@ -16,6 +16,8 @@ from os import PathLike
 from pathlib import Path
 from typing import IO
 
+from walk3d.io import processes
+
 __all__ = [
     "TMP_PREFIX",
     "atomic_folder",
@@ -130,22 +132,29 @@ def fsync_dir(folder: Path) -> None:
 
 OWNER_SUFFIX = ".owner"
 """Beside a temporary folder while it is built (``.tmp_<name>_<random>.owner``): ``<host>
-<pid>`` of the process building it, so that a later run removes both once that process has
-ended, and nothing else."""
+<pid> <start time>`` of the process building it (:mod:`walk3d.io.processes`; no start time
+where it cannot be read), so that a later run removes both once that process has ended, and
+nothing else."""
+
+
+def _owner_line() -> str:
+    """This process's owner file line (:data:`OWNER_SUFFIX`)."""
+    started = processes.start_time(os.getpid())
+    tail = "" if started is None else f" {started}"
+    return f"{socket.gethostname()} {os.getpid()}{tail}\n"
 
 
 def _ended(owner: Path) -> bool:
-    """Whether the process named in an owner file has ended on this host."""
+    """Whether the process named in an owner file has ended on this host (a pid that another
+    process now has counts as ended)."""
     try:
-        host, pid = owner.read_text(encoding="ascii").split()
-        if host != socket.gethostname():
-            return False
-        os.kill(int(pid), 0)
-    except ProcessLookupError:
-        return True
-    except (OSError, ValueError, UnicodeError):  # unreadable, another user's process, ...
+        host, pid, *started = owner.read_text(encoding="ascii").split()
+    except (OSError, ValueError, UnicodeError):  # unreadable, or not an owner line
         return False
-    return False
+    numbers = [pid, *started]
+    if host != socket.gethostname() or len(started) > 1 or not all(n.isdigit() for n in numbers):
+        return False
+    return not processes.running(int(pid), int(started[0]) if started else None)
 
 
 def remove_stale_temporaries(parent: Path, name: str) -> list[Path]:
@@ -216,7 +225,7 @@ def atomic_folder(path: str | PathLike[str]) -> Iterator[Path]:
     target = Path(path)
     tmp = temporary_sibling(target.parent, target.name)
     owner = tmp.with_name(tmp.name + OWNER_SUFFIX)
-    owner.write_text(f"{socket.gethostname()} {os.getpid()}\n", encoding="ascii")
+    owner.write_text(_owner_line(), encoding="ascii")
     try:
         tmp.mkdir()
         remove_stale_temporaries(target.parent, target.name)

@@ -8,7 +8,8 @@ at -O0), with equal values (docs/solver.md, "Compiled derivatives").
 
 An entry is one library per function, ``lib-<key>-<function name>.so`` in
 :func:`walk3d.solve.model_cache.cache_dir`. It is compiled in a temporary folder next to it,
-``.build-<pid>-<random>`` (:data:`BUILD_PREFIX`, the building process's pid), and moved into
+``.build-<pid>-<start time>-<random>`` (:data:`BUILD_PREFIX`, the building process's pid and
+start time, :mod:`walk3d.io.processes`; the pid alone without ``/proc``), and moved into
 place with ``os.replace``, so a concurrent reader sees either no library or a whole one. A
 killed compile leaves its folders: the next compile start and ``walk3d cache --clear`` remove
 them (:func:`remove_leftover_builds`). A library that does not load counts as missing.
@@ -41,7 +42,9 @@ from pathlib import Path
 
 import casadi as ca
 
+from walk3d.io import processes
 from walk3d.io.atomic import atomic_write_text
+from walk3d.solve import compiler_group
 from walk3d.solve.model_cache import cache_dir
 
 __all__ = ["BUILD_PREFIX", "CompileError", "build_folders", "build_library", "compile_functions",
@@ -172,22 +175,31 @@ def load_functions(key: str, names: list[str]) -> dict[str, ca.Function] | None:
 
 
 def build_library(
-    path: Path, name: str, source: str, cc: list[str], before: list[str], after: list[str]
+    path: Path,
+    name: str,
+    source: str,
+    cc: list[str],
+    before: list[str],
+    after: list[str],
+    group: int | None = None,
 ) -> None:
     """Build the shared library ``path`` from ``source`` (the file name ``name`` tells the
     compiler its language: ``.c``, ``.s``): ``cc *before -shared SOURCE -o LIB *after`` in a
-    temporary folder next to ``path``, then moved into place (atomic) after its SHA-256
-    (:func:`digest_path`). Raises :class:`CompileError` with the compiler's last line of output
-    (or its line that reports a full disk: ``ld``'s last line only says that it failed) if it
-    fails."""
+    temporary folder next to ``path``, the compiler in the process group ``group`` if given,
+    then moved into place (atomic) after its SHA-256 (:func:`digest_path`). Raises
+    :class:`CompileError` with the compiler's last line of output (or its line that reports a
+    full disk: ``ld``'s last line only says that it failed) if it fails."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    prefix = f"{BUILD_PREFIX}{os.getpid()}-"  # whose it is: :func:`leftover_builds`
+    started = processes.start_time(os.getpid())
+    owner = os.getpid() if started is None else f"{os.getpid()}-{started}"
+    prefix = f"{BUILD_PREFIX}{owner}-"  # whose it is: :func:`leftover_builds`
     with tempfile.TemporaryDirectory(dir=path.parent, prefix=prefix) as tmp:
         src, lib = Path(tmp) / name, Path(tmp) / "lib.so"
         src.write_text(source, encoding="utf-8")
         cmd = [*cc, *before, "-shared", str(src), "-o", str(lib), *after]
         env = os.environ | {"LC_ALL": "C"}  # the compiler's messages in English, as matched
-        run = subprocess.run(cmd, capture_output=True, text=True, check=False, env=env)
+        run = subprocess.run(cmd, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                             check=False, env=env, process_group=group)  # fmt: skip
         if run.returncode != 0:  # the last line, or the one that says the disk is full
             lines = run.stderr.strip().splitlines()
             full = [ln for ln in lines if os.strerror(errno.ENOSPC) in ln]
@@ -208,27 +220,15 @@ def build_folders() -> list[Path]:
         return []
 
 
-def _running(pid: int) -> bool:
-    """Whether process ``pid`` runs on this machine (a zombie, ended but not reaped, does not)."""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:  # another user's: it exists
-        pass
-    try:
-        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
-    except (OSError, IndexError):  # no /proc (macOS)
-        return True
-
-
 def leftover_builds() -> list[Path]:
-    """The build folders whose process no longer runs here (``.build-<pid>-...``; any without
-    a pid): a killed compile's. A folder of a running build, on this machine, is not one."""
+    """The build folders whose process no longer runs here (``.build-<pid>-[<start time>-]...``;
+    any without a pid): a killed compile's. A folder of a running build, on this machine, is
+    not one; one whose pid another process has now is (its start time differs)."""
     out = []
     for folder in build_folders():
-        pid = folder.name[len(BUILD_PREFIX) :].split("-", 1)[0]
-        if not (pid.isdigit() and int(pid) > 0 and _running(int(pid))):
+        pid, *rest = folder.name[len(BUILD_PREFIX) :].split("-")  # the random part has no "-"
+        started = int(rest[0]) if len(rest) == 2 and rest[0].isdigit() else None
+        if not (pid.isdigit() and processes.running(int(pid), started)):
             out.append(folder)
     return out
 
@@ -272,8 +272,9 @@ def compile_functions(
     """Compile the functions not yet stored under ``key`` (``jobs`` compilers at a time,
     default one per core) and load all of them. ``on_done(name, done, total)`` after each
     compile. The C is generated here, one function at a time while the compilers run: CasADi's
-    symbolic operations are not thread-safe. Raises :class:`CompileError` without a compiler
-    or when one fails."""
+    symbolic operations are not thread-safe. The compilers run in a guarded process group
+    (:mod:`walk3d.solve.compiler_group`): they end with this process, or when the compile stops
+    on an exception. Raises :class:`CompileError` without a compiler or when one fails."""
     cc = require_compiler()
     cflags = (*flags(), "-fPIC")
     todo = [n for n in functions if load_functions(key, [n]) is None]
@@ -288,13 +289,14 @@ def compile_functions(
         if on_done:
             on_done(name, finished, len(todo))
 
-    with ThreadPoolExecutor(width) as pool:
+    guard = compiler_group.guarded_group() if todo else contextlib.nullcontext()
+    with ThreadPoolExecutor(width) as pool, guard as group:  # the guard ends before the pool
         for name in todo:
             while len(pending) >= width:  # at most ``width`` sources in memory at once
                 collect(next(iter(pending)))
             source = _c_source(functions[name])
             pending[name] = pool.submit(build_library, _library(key, name), f"{name}.c", source,
-                                        cc, list(cflags), ["-lm"])  # fmt: skip
+                                        cc, list(cflags), ["-lm"], group)  # fmt: skip
         while pending:
             collect(next(iter(pending)))
     loaded = load_functions(key, list(functions))
