@@ -22,6 +22,11 @@ def _atlas_entry() -> tuple[dict, dict]:
     return data, next(e for e in data["entries"] if abs(e["speed"] - SPEED) < 1e-9)
 
 
+def atlas_x() -> np.ndarray:
+    """The decision vector of the shipped male atlas solution at 1.3 m/s."""
+    return np.array(_atlas_entry()[1]["x"], dtype=float)
+
+
 def evaluate_atlas():
     """``(settings, body, evaluation)`` of the shipped male atlas solution at 1.3 m/s, with the
     free landing it was solved with."""

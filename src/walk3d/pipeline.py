@@ -110,6 +110,8 @@ def summarize(
         ),
         "x": [float(v) for v in outcome.x],
     }
+    if getattr(outcome, "split", None) is not None:  # walk3d.contact.free_split
+        coefficients["split"] = np.asarray(outcome.split, float).tolist()
     return {
         "walk3d_version": __version__,
         "solve_revision": SOLVE_REVISION,
@@ -204,7 +206,7 @@ def predict(
     if on_stage:
         on_stage("evaluating the cycle")
     body = body_for(settings)
-    ev = evaluate_cycle(body, settings, outcome.x)
+    ev = evaluate_cycle(body, settings, outcome.x, split=getattr(outcome, "split", None))
     summary = summarize(settings, seed, outcome, ev, solver, full)
     pred = make_prediction(ev.prediction_arrays, summary)
     if out_dir is not None:

@@ -271,10 +271,10 @@ def _tracked(pred, target, settings, outcome) -> Tracked:
     return Tracked(pred, rows, binding(outcome, settings) if missed else [])
 
 
-def _recorded(folder: Path) -> tuple[PredictionSettings, np.ndarray]:
-    """The settings and coefficients ``x`` a complete result folder's summary records;
-    DataFileError (one line) without usable settings, or without the half or full cycle's
-    coefficients as finite numbers."""
+def _recorded(folder: Path) -> tuple[PredictionSettings, np.ndarray, np.ndarray | None]:
+    """The settings, coefficients ``x`` and free split ``(K, 6)`` (or None) a complete result
+    folder's summary records; DataFileError (one line) without usable settings, or without the
+    half or full cycle's coefficients as finite numbers."""
     from walk3d.io.checks import finite_number, read_json_object
     from walk3d.io.errors import DataFileError
     from walk3d.problem import layout
@@ -296,7 +296,16 @@ def _recorded(folder: Path) -> tuple[PredictionSettings, np.ndarray]:
     if not isinstance(x, list) or len(x) not in (layout.N_X, layout.N_XF):
         raise DataFileError(path, f"coefficients.x is not a list of {layout.N_X} or "
                             f"{layout.N_XF} numbers (the half or full cycle's)")  # fmt: skip
-    return own, np.array([finite_number(path, v, "each of coefficients.x") for v in x])
+    split = coefficients.get("split")
+    k = own.model.split_terms
+    if split is not None or k:
+        flat = np.ravel(np.array(split if split is not None else [], dtype=object))
+        if flat.size != 6 * k:
+            raise DataFileError(path, f"coefficients.split is not {k} rows of 6 numbers "
+                                "(model.split_terms)")  # fmt: skip
+        split = np.array([finite_number(path, v, "each of coefficients.split") for v in flat])
+    split = None if split is None or not split.size else split.reshape(-1, 6)
+    return own, np.array([finite_number(path, v, "each of coefficients.x") for v in x]), split
 
 
 def _evaluated(folder: str | Path, settings: PredictionSettings | None = None):
@@ -306,11 +315,11 @@ def _evaluated(folder: str | Path, settings: PredictionSettings | None = None):
     from walk3d.results.evaluate import evaluate_cycle
 
     try:
-        own, x = _recorded(Path(folder))
+        own, x, split = _recorded(Path(folder))
     except DataFileError as exc:
         raise DataFileError(exc.path, f"{exc.reason} (in {folder})", exc.line) from None
     use = own if settings is None else settings.replace(**own.gait.model_dump())
-    return evaluate_cycle(body_for(use), use, x), use
+    return evaluate_cycle(body_for(use), use, x, split=split), use
 
 
 def audit(tracked: str | Path, predicted: str | Path) -> dict:

@@ -20,7 +20,7 @@ from walk3d.solve import atlas, solver
 
 OPT_IN = {"handover": False, "passive": False, "passive_total": False, "heel_rise": None,
           "load_ramp": None, "full_cycle": False, "equal_steps": False, "loop_tolerance": 0.0,
-          "tracking": None}  # fmt: skip
+          "tracking": None, "split_terms": 0}  # fmt: skip
 
 
 def test_every_model_setting_declares_one_role():

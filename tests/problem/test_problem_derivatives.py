@@ -29,11 +29,17 @@ def _dense(m) -> np.ndarray:
 @pytest.mark.parametrize(
     ("dynamics", "balance", "extra"),
     [
-        # the full stage with every optional row: loop checks, calibrated heel-strike map
+        # the full stage with every optional row: loop checks, calibrated heel-strike map, and
+        # a free double-support split
         pytest.param(
             True,
             True,
-            {"criterion": "en", "loop_checks": 1, "transition_ratios": (0.2, 0.05, 0.1, 0.3)},
+            {
+                "criterion": "en",
+                "loop_checks": 1,
+                "transition_ratios": (0.2, 0.05, 0.1, 0.3),
+                "split_terms": 2,
+            },  # fmt: skip
             marks=pytest.mark.model,
         ),
         # a weighted criterion: every extra term in the objective row

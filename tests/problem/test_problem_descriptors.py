@@ -82,15 +82,15 @@ def _point(prob, seed=3):
 
 @pytest.mark.model
 @pytest.mark.parametrize(
-    ("dynamics", "balance", "criterion", "checks"),
+    ("dynamics", "balance", "criterion", "checks", "split"),
     [
-        (True, True, "tor=1,jerk=0.5,impact=2,arms=1", 0),
-        (True, True, "en", 1),
-        (False, True, "tor", 0),
+        (True, True, "tor=1,jerk=0.5,impact=2,arms=1", 0, 2),  # with a free split
+        (True, True, "en", 1, 0),
+        (False, True, "tor", 0, 0),
     ],
 )
-def test_structured_derivatives_in_s_equal_casadi(dynamics, balance, criterion, checks):
-    s = _free(criterion=criterion, contact_checks=checks)
+def test_structured_derivatives_in_s_equal_casadi(dynamics, balance, criterion, checks, split):
+    s = _free(criterion=criterion, contact_checks=checks, split_terms=split)
     prob, _, _ = free_nlp.build_free_nlp(body_for(s), s, dynamics=dynamics, balance=balance)
     d = prob["derivatives"]
     jac, grad, hess = _reference(prob)

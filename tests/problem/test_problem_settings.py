@@ -30,6 +30,7 @@ ADDED_SINCE = [
     "swing_clearance",
     "heel_strike_nodes",
     "contact_checks",
+    "split_terms",
     "reject_crouch",
     "free",
     "start",

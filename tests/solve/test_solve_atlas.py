@@ -206,7 +206,7 @@ def _outcome(converged, stages):
                            wall_time_s=1.0, x=np.zeros(layout.N_X), z=np.zeros(3),
                            status="Solve_Succeeded" if converged else "Maximum_Iterations",
                            max_constraint_violation=0.0, compiled_derivatives=[],
-                           descriptors={}, handover=False)  # fmt: skip
+                           descriptors={}, handover=False, split=None)  # fmt: skip
 
 
 def test_a_failed_atlas_start_falls_back_to_standing(monkeypatch):
@@ -337,12 +337,29 @@ def test_a_handover_start_blends_the_entries_primal_dual_points(tmp_path):
 
 def test_a_primal_dual_start_is_used_only_where_it_fits_the_solver():
     solver = SimpleNamespace(stage_bounds=lambda kind: SimpleNamespace(lbz=np.zeros(4)),
-                             stage_rows={"full": np.array([0, 2, 3])})  # fmt: skip
+                             stage_rows={"full": np.array([0, 2, 3])},
+                             layout=SimpleNamespace(n_split=0))  # fmt: skip
     warm = {"z": np.ones(4), "rows": np.array([0, 2, 3])}
     assert starts._usable_warm(solver, warm) is warm
     assert starts._usable_warm(solver, {**warm, "rows": np.array([0, 1, 3])}) is None
     assert starts._usable_warm(solver, {**warm, "z": np.ones(5)}) is None
     assert starts._usable_warm(solver, None) is None
+
+
+def test_a_start_of_the_papers_split_starts_a_free_split_at_zero():
+    """The atlas's points (the paper's split) fit a free split's NLP once its coefficients are
+    put in at 0, after W0, in ``z`` and ``lam_x``; a point of another size (the control) does
+    not."""
+    lay = layout.NlpLayout(nodes=2, n_split=12)
+    solver = SimpleNamespace(stage_bounds=lambda kind: SimpleNamespace(lbz=np.zeros(lay.n_z)),
+                             stage_rows={"full": np.array([0, 1])}, layout=lay)  # fmt: skip
+    n = lay.n_z - 12
+    warm = {"z": np.arange(n) + 1.0, "lam_x": np.arange(n) + 1.0, "rows": np.array([0, 1])}
+    got = starts._usable_warm(solver, warm)
+    c = slice(lay.z("w0").start + layout.N_W0, lay.z("w0").stop)
+    assert got["z"].size == lay.n_z and not got["z"][c].any() and not got["lam_x"][c].any()
+    np.testing.assert_array_equal(np.delete(got["z"], np.r_[c]), warm["z"])
+    assert starts._usable_warm(solver, {**warm, "z": np.ones(n + 1)}) is None
 
 
 def test_write_warm_solves_only_the_entries_it_has_no_point_for(tmp_path, monkeypatch):

@@ -204,7 +204,7 @@ def test_model_functions_read_only_the_model_settings_of_the_key(recorded):
     # passive is in the key when on; off, it is left out and the functions are those before it
     assert read == {"absolute", "balance_split", "changes", "cop_margin", "criterion",
                     "free_moment_radius", "friction", "handover", "passive",
-                    "smoothing"}  # fmt: skip
+                    "smoothing", "split_terms"}  # fmt: skip
     # the model's other fields shape the body (calibrated roll-over, what-if changes) or the
     # NLP's bounds and heel-strike map, not these functions: the key leaves them out
     assert read < set(ModelSettings.model_fields)

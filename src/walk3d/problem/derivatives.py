@@ -6,8 +6,9 @@ slower per call than the route below, which is the default (``derivatives="struc
 docs/solver.md). The NLP's structure makes this cheaper route exact too:
 
 * node k's rows depend only on its own variables ``v_k = [Y_k (78), W0 (6), half step width,
-  T_k (24)]`` (:data:`N_V` = 109), so its Jacobian ``J_k`` and Lagrangian Hessian ``H_k`` are
-  small SX functions of ``v_k``, generated once per node function and mapped over the nodes;
+  T_k (24)]`` (:data:`N_V` = 109; a free split's ``6 K`` coefficients follow W0), so its
+  Jacobian ``J_k`` and Lagrangian Hessian ``H_k`` are small SX functions of ``v_k``, generated
+  once per node function and mapped over the nodes;
 * every other row (the lifting ``Y_k = A_k x``, the heel-strike tie ``R·hs - W0``, the joint
   ranges) is linear, and adds constants to the Jacobian and nothing to the Hessian; only the
   optional loop checks (functions of ``x`` alone) are left to CasADi;
@@ -28,7 +29,7 @@ import numpy as np
 from walk3d.problem import coupling, layout
 from walk3d.problem.scatter import Scatter, per_node, triplets
 
-N_Y, N_T, N_V = layout.N_Y, layout.N_T, layout.N_V
+N_Y, N_T = layout.N_Y, layout.N_T
 NodeDerivs = tuple[ca.Function, ca.Function, ca.Function | list[ca.Function]]
 """``(jac, grad, hess)`` of a node function; ``hess`` maybe as its column blocks."""
 
@@ -166,7 +167,7 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", n_g)
     cols = [lay.node_columns(k) for k in range(n)]
     v0 = z[cols[0].tolist()]
-    vr = ca.reshape(z[np.concatenate(cols[1:]).tolist()], N_V, n - 1)
+    vr = ca.reshape(z[np.concatenate(cols[1:]).tolist()], lay.n_v, n - 1)
     same = pc.node0 is pc.node
     # one thread: CasADi's symbolic operations are not thread-safe (two Hessians built at once
     # crashed; docs/solver.md, "Symbolics in one thread")

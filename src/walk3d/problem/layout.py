@@ -209,9 +209,22 @@ class NlpLayout:
     n_s: int = 0
     """Descriptor unknowns ``s = [T, Td]`` at the end of ``z`` (:mod:`walk3d.problem.descriptors`),
     with their two rows on ``Td / T`` at the end of ``g``; 0 when T and Td are given."""
+    n_split: int = 0
+    """The free split's coefficients (``6 K``, :mod:`walk3d.contact.free_split`), right after
+    ``W0`` in its block; 0 for the paper's split."""
+
+    @property
+    def n_w0(self) -> int:
+        """Size of the ``w0`` block: ``W0`` and the free split's coefficients."""
+        return N_W0 + self.n_split
+
+    @property
+    def n_v(self) -> int:
+        """Variables one node's rows depend on: ``[Y_k, W0 (and C), half step width, T_k]``."""
+        return N_V + self.n_split
 
     def _z(self) -> dict[str, int]:
-        return {"x": N_X, "y": self.nodes * N_Y, "w0": N_W0, "t": self.nodes * N_T,
+        return {"x": N_X, "y": self.nodes * N_Y, "w0": self.n_w0, "t": self.nodes * N_T,
                 "s": self.n_s}  # fmt: skip
 
     def _g(self) -> dict[str, int]:
@@ -261,13 +274,14 @@ class NlpLayout:
         kinds = ("", " rate", " accel")
         y = [f"Y {k} {c}{kind}" for k in range(self.nodes) for kind in kinds for c in coords]
         return ([f"x {i}" for i in range(N_X)] + y + [f"W0[{i}]" for i in range(N_W0)]
+                + [f"C{j}[{i}]" for j in range(self.n_split // 6) for i in range(6)]
                 + [f"slack {k} {d}" for k in range(self.nodes) for d in dofs]
                 + [f"s {i}" for i in range(self.n_s)])  # fmt: skip
 
     def node_columns(self, k: int) -> np.ndarray:
         """Positions in ``z`` of node k's variables ``[Y_k, W0, half step width, T_k]``."""
         y, w0, t = self.z("y").start, self.z("w0").start, self.z("t").start
-        return np.concatenate([y + k * N_Y + np.arange(N_Y), w0 + np.arange(N_W0),
+        return np.concatenate([y + k * N_Y + np.arange(N_Y), w0 + np.arange(self.n_w0),
                                [I_HALF_STEP], t + k * N_T + np.arange(N_T)])  # fmt: skip
 
     def node_rows(self, g: np.ndarray) -> np.ndarray:

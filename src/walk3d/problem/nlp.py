@@ -23,6 +23,7 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.constants import G
+from walk3d.contact import free_split
 from walk3d.contact.support import foot_points, support_rows
 from walk3d.contact.transition import ratio_map
 from walk3d.model import terms
@@ -54,14 +55,17 @@ def _unpack_coords(y, omega: float) -> list[tuple]:
 
 def state_at(body: BodyModel, y, w0, hw, decay, anchor_x, omega: float, dynamics: bool = True,
              balance: bool = True, split_total: bool = False,
-             handover=None) -> GaitState:  # fmt: skip
+             handover=None, share=None) -> GaitState:  # fmt: skip
     """:func:`evaluate` with the right foot as root (component inputs, any backend).
 
     ``y`` holds values, rates / ω and accelerations / ω² (``ω = 2π/T``), so all 78 entries have
     the size of the Fourier coefficients (better conditioning for the solver). ``handover``:
-    ``(h, ḣ/ω, ḧ/ω²)``, or None without the handover.
+    ``(h, ḣ/ω, ḧ/ω²)``, or None without the handover. ``w0``: W0 and, with the free split, its
+    coefficients (:mod:`walk3d.contact.free_split`, whose basis is the handover ``share``).
     """
     wf = body.mass * G
+    if len(w0) > layout.N_W0:  # the free split: the trailing foot's whole load, decay included
+        w0, decay = free_split.trailing_load(w0, decay, share, w0[layout.N_W0 :]), 1.0
     w0_wrench = (tuple(w * wf for w in w0[:3]), tuple(w * wf for w in w0[3:6]))
     if handover is not None:
         handover = (handover[0], omega * handover[1], omega**2 * handover[2])
@@ -130,7 +134,7 @@ def node_function(
     with_hs: bool = True,
     balance: bool = True,
 ) -> ca.Function:
-    """``walk3d_node(y[78], w0[6], hw, p[6], t[24]) -> (g[N_G], f[2])`` in SX,
+    """``walk3d_node(y[78], w0[6 + 6 K], hw, p[6], t[24]) -> (g[N_G], f[2])`` in SX,
     ``p = [decay, anchor_x, ω, h, ḣ/ω, ḧ/ω²]`` (:data:`N_P`; the handover share is read only with
     ``model.handover``).
 
@@ -154,14 +158,14 @@ def node_function(
     the node model's (:func:`walk3d.model.node.node_model`: passive joints and other elements).
     """
     y = ca.SX.sym("y", N_Y)
-    w0 = ca.SX.sym("w0", 6)
+    w0 = ca.SX.sym("w0", layout.N_W0 + 6 * model.split_terms)
     hw = ca.SX.sym("hw")
     p = ca.SX.sym("p", N_P)
     t = ca.SX.sym("t", N_T)
-    yl, w0l = [y[i] for i in range(N_Y)], [w0[i] for i in range(6)]
+    yl, w0l = [y[i] for i in range(N_Y)], [w0[i] for i in range(w0.numel())]
     per_foot = per_foot_loads(model, dynamics, balance)
     share = (p[3], p[4], p[5]) if model.handover else None
-    st = state_at(body, yl, w0l, hw, p[0], p[1], p[2], dynamics, balance, per_foot, share)
+    st = state_at(body, yl, w0l, hw, p[0], p[1], p[2], dynamics, balance, per_foot, share, p[3])
     coords = _unpack_coords(yl, p[2])
     wanted = tuple(n for n in terms.extras(model.criterion) if n in terms.node_names())
     nm = node_model(body, model, coords, st, wanted) if dynamics else None
@@ -301,7 +305,7 @@ def node_calls(
     node0 = node_fn(True) if per_foot_loads(settings.model, dynamics, balance) else node
     x = ca.MX.sym("x", layout.N_X)
     ys = ca.MX.sym("Y", N_Y, n)
-    w0 = ca.MX.sym("W0", 6)
+    w0 = ca.MX.sym("W0", layout.N_W0 + 6 * settings.model.split_terms)
     ts = ca.MX.sym("T", N_T, n)
     hw = x[layout.I_HALF_STEP]
     g0, f0 = node0(ys[:, 0], w0, hw, params[:, 0], ts[:, 0])
@@ -311,7 +315,7 @@ def node_calls(
     gr, fr = mapped(ys[:, 1:], ca.repmat(w0, 1, rest), ca.repmat(hw, 1, rest),
                             params[:, 1:], ts[:, 1:])  # fmt: skip
     hs_map = ratio_map(ratios_for(settings.model))  # Eqs. 7–8 for the trailing (left) foot
-    g_hs = ca.mtimes(ca.DM(hs_map), g0[G_ROWS["hs_wrench"]]) - w0
+    g_hs = ca.mtimes(ca.DM(hs_map), g0[G_ROWS["hs_wrench"]]) - w0[: layout.N_W0]
     return NodeCalls(node0, node, x, ys, w0, ts, ca.horzcat(g0, gr), ca.horzcat(f0, fr), hs_map,
                      g_hs)  # fmt: skip
 
@@ -372,7 +376,9 @@ def build_nlp(
                    g_loop)  # fmt: skip
     prob = {"x": z, "f": f, "g": g} | ({"p": a} if shift else {})
     if settings.solver.derivatives == "structured":
-        lay = layout.NlpLayout(sch.n, range_np.shape[0], g_loop.numel())
+        lay = layout.NlpLayout(
+            sch.n, range_np.shape[0], g_loop.numel(), n_split=6 * settings.model.split_terms
+        )
         pieces = NlpPieces(z=z, f=f, g=g, node0=nc.node0, node=nc.node, p=a,
                            params=params if shift else np.asarray(params), lift=lift,
                            range_mat=range_np, hs_rows=G_ROWS["hs_wrench"],

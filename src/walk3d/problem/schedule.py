@@ -189,7 +189,13 @@ def nlp_layout(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> 
     """The blocks of the NLP's ``z`` and ``g`` on this grid (:class:`~layout.NlpLayout`)."""
     n_range = range_rows(body, settings)[0].shape[0]
     n_s = descriptors.N_S if settings.gait.free else 0
-    return layout.NlpLayout(sch.n, n_range, 6 * loop_check_times(settings, sch).size, n_s)
+    return layout.NlpLayout(
+        sch.n,
+        n_range,
+        6 * loop_check_times(settings, sch).size,
+        n_s,
+        6 * settings.model.split_terms,
+    )
 
 
 def node_params(settings: PredictionSettings, sch) -> np.ndarray:

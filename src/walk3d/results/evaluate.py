@@ -15,6 +15,7 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.constants import G
+from walk3d.contact import free_split
 from walk3d.contact.phases import GaitPhases
 from walk3d.contact.transition import apply_ratios, centre_of_pressure
 from walk3d.kinematics import quaternion as qt
@@ -80,11 +81,18 @@ def _anchors(settings: PredictionSettings, ph: GaitPhases, t: np.ndarray, root: 
     return (ax, -hw + 0.0 * p), (np.where(later, 0.0, -2 * half), hw + 0.0 * p)
 
 
-def _state(body, settings, ph, x, t, root, w0=None, decay=None, handover=True) -> GaitState:
+def _state(body, settings, ph, x, t, root, w0=None, decay=None, handover=True,
+           split=None) -> GaitState:  # fmt: skip
     """The gait at times ``t`` of one root block; with the settings' handover unless
-    ``handover`` is False."""
+    ``handover`` is False; ``split``: the free split's coefficients ``(K, 6)`` (body weights,
+    the right root's signs), None for none."""
     a_root, a_other = _anchors(settings, ph, t, root, x)
     d = ph.trailing_decay(t) if decay is None else decay
+    if split is not None and w0 is not None:  # the trailing foot's whole load, in N
+        c = np.asarray(split, float) * (1.0 if root == "r" else np.array(free_split.MIRROR))
+        h = np.broadcast_to(ph.handover(t)[0], np.shape(t))
+        load = free_split.trailing_load([*w0[0], *w0[1]], d, h, (c * body.mass * G).ravel())
+        w0, d = (tuple(load[:3]), tuple(load[3:])), np.ones(np.shape(t))
     share = ph.handover(t) if handover and settings.model.handover else None
     coords = _coords(x, t, settings.gait.period)
     return evaluate(body, coords, root, a_root, a_other, d, w0, handover=share)
@@ -145,11 +153,16 @@ def _track(settings: PredictionSettings, t: np.ndarray, coords: list[tuple], axe
 
 
 def evaluate_cycle(
-    body: BodyModel, settings: PredictionSettings, x: np.ndarray, n_samples: int = 101
+    body: BodyModel,
+    settings: PredictionSettings,
+    x: np.ndarray,
+    n_samples: int = 101,
+    split: np.ndarray | None = None,
 ) -> CycleEvaluation:
     """Evaluate the cycle at ``n_samples`` equally spaced times from 0 to T (inclusive), from a
     half-cycle decision vector ``x`` or the full-cycle problem's ``X``
-    (:mod:`walk3d.problem.full_cycle`)."""
+    (:mod:`walk3d.problem.full_cycle`); ``split``: the free split's coefficients ``(K, 6)``
+    (``SolveOutcome.split``), None for the paper's split."""
     ph = GaitPhases(settings.gait.period, settings.gait.double_support, settings.model.load_ramp)
     T = settings.gait.period
     t = np.linspace(0.0, T, n_samples)
@@ -180,7 +193,7 @@ def evaluate_cycle(
         if idx.size == 0:
             continue
         tb = t[idx]
-        st = _state(body, settings, ph, x, tb, root, w0=w0[root])
+        st = _state(body, settings, ph, x, tb, root, w0=w0[root], split=split)
         for i in range(13):
             com[idx, i] = stack_v(st.pose.com[i][0])
             ori[idx, i] = stack_q(st.pose.orientation[i][0])
@@ -205,7 +218,8 @@ def evaluate_cycle(
         viol.append(block_violations(body, settings.model, st, body.mass * G, ds))
     # continuity at the switch of root (left heel strike): pelvis from either root's chain
     t_sw = np.array([ph.heel_strike_l])
-    p_r, p_l = (stack_v(_state(body, settings, ph, x, t_sw, r, w0=w0[r], handover=False)
+    p_r, p_l = (stack_v(_state(body, settings, ph, x, t_sw, r, w0=w0[r], handover=False,
+                               split=split)
                         .pose.origin[0][0]) for r in ("r", "l"))  # fmt: skip
     continuity = float(np.linalg.norm(p_r - p_l))
     cop = np.zeros_like(force)

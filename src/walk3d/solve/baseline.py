@@ -109,6 +109,8 @@ def slsqp_solve(
 ) -> SolveOutcome:
     """Two-stage SLSQP (finite differences) from the same start as the default solver, restarted
     after early exits (:data:`RESTART_STATUS`) until ``time_limit_s``."""
+    if settings.model.split_terms:
+        raise ValueError("the SLSQP baseline solves the paper's split: split_terms must be 0")
     t0 = time.perf_counter()
     settings, scale = similarity.reference_problem(settings)  # as the default solver does
     sv = build_solver(_smooth(settings))

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field, replace
 import casadi as ca
 import numpy as np
 
-from walk3d.contact import crouch
+from walk3d.contact import crouch, free_split
 from walk3d.contact.phases import GaitPhases
 from walk3d.model import terms
 from walk3d.problem import descriptors, layout, similarity
@@ -67,9 +67,21 @@ class SolveOutcome:
     handover: bool = False
     """Whether ``x`` was solved with the handover (``ModelSettings.handover``,
     :mod:`walk3d.solve.landing`)."""
+    split: np.ndarray | None = None
+    """The free split's coefficients ``(K, 6)``, the subject's (:mod:`walk3d.contact.
+    free_split`); None for the paper's split."""
     duals: dict[str, np.ndarray] | None = field(default=None, repr=False)
     """``lam_x`` and ``lam_g`` of the last stage (its solver's rows), from :func:`warm_stage`:
     with ``z``, a primal-dual start for the same problem (the atlas's, docs/starts.md)."""
+
+
+def split_of(solver: Solver, z: np.ndarray, scale: float) -> np.ndarray | None:
+    """The subject's free-split coefficients ``(K, 6)`` in ``z``, or None without them."""
+    lay = solver.layout
+    if not lay.n_split:
+        return None
+    w0 = lay.z("w0")
+    return free_split.subject_split(z[w0.start + layout.N_W0 : w0.stop], scale)
 
 
 STANDING_W0 = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0)
@@ -101,7 +113,8 @@ def lifted_z(solver: Solver, x: np.ndarray, s0: tuple[float, ...] | None = None)
     descriptors, those at ``s0`` (default: the first guess), clipped to their bounds."""
     lay, g = solver.layout, solver.settings.gait
     z = np.zeros(lay.n_z)
-    z[lay.z("x")], z[lay.z("w0")] = x, STANDING_W0
+    z[lay.z("x")] = x
+    z[lay.z("w0")] = np.r_[STANDING_W0, np.zeros(lay.n_split)]  # the free split at 0
     s = [g.period, g.double_support][: lay.n_s]
     if lay.n_s and s0 is not None:
         b = solver.nlp_bounds("free")
@@ -128,7 +141,8 @@ def full_stage_start(solver: Solver, z: np.ndarray) -> np.ndarray:
     z = z.copy()
     lay, rows = solver.layout, layout.G_ROWS
     w0, t = lay.z("w0"), lay.z("t")
-    z[w0] = STANDING_W0
+    z[w0] = np.r_[STANDING_W0, np.zeros(lay.n_split)]
+    w0 = slice(w0.start, w0.start + layout.N_W0)  # the heel-strike load; a free split stays 0
     z[t] = 0.0
 
     def node_rows(z: np.ndarray) -> np.ndarray:
@@ -292,7 +306,7 @@ def warm_stage(
     if record["status"] in SUCCESS:
         _reject_crouch(solver, z, record, note)
     return SolveOutcome(
-        x=similarity.subject_x(z[: layout.N_X], scale), z=z,
+        x=similarity.subject_x(z[: layout.N_X], scale), z=z, split=split_of(solver, z, scale),
         converged=record["status"] in SUCCESS, status=record["status"],
         iterations=record["iterations"], wall_time_s=time.perf_counter() - t0,
         stages=[record], max_constraint_violation=record["max_constraint_violation"],
@@ -315,7 +329,7 @@ def merged(first: SolveOutcome, free: SolveOutcome, method: str) -> SolveOutcome
         max_constraint_violation=free.max_constraint_violation,
         compiled_derivatives=sorted(set(first.compiled_derivatives)
                                     | set(free.compiled_derivatives)),
-        descriptors=free.descriptors, handover=free.handover,
+        descriptors=free.descriptors, handover=free.handover, split=free.split,
     )  # fmt: skip
 
 
@@ -369,6 +383,7 @@ def solve_stages(
     return SolveOutcome(
         x=similarity.subject_x(ends["previous"][: layout.N_X], scale),
         z=ends["previous"],
+        split=split_of(solver, ends["previous"], scale),
         converged=result.converged,
         status=last["status"],
         iterations=sum(st["iterations"] for st in result.records),

@@ -68,8 +68,17 @@ def atlas_noise(seed: int, perturbation: float) -> np.ndarray:
 
 def _usable_warm(solver, warm: dict | None) -> dict | None:
     """``warm`` (an atlas start's primal-dual point) if it fits this solver's full NLP: the same
-    variables and stage rows (the double-support nodes of a given grid follow Td / T)."""
-    if warm is None or warm["z"].size != solver.stage_bounds("full").lbz.size:
+    variables and stage rows (the double-support nodes of a given grid follow Td / T). A point
+    of the paper's split starts a free split at 0 (:mod:`walk3d.contact.free_split`)."""
+    if warm is None:
+        return None
+    lay = solver.layout
+    if lay.n_split and warm["z"].size + lay.n_split == lay.n_z:
+        at = lay.z("w0").start + layout.N_W0
+        pad = {k: np.insert(np.asarray(warm[k], float), at, np.zeros(lay.n_split))
+               for k in ("z", "lam_x")}  # fmt: skip
+        warm = warm | pad
+    if warm["z"].size != solver.stage_bounds("full").lbz.size:
         return None
     return warm if np.array_equal(warm["rows"], solver.stage_rows["full"]) else None
 
