@@ -37,6 +37,7 @@ from walk3d.cli.common import (
     Sex,
     SolverName,
     Speed,
+    SplitTerms,
     Start,
     TrialGrf,
     app,
@@ -164,6 +165,7 @@ def predict(
     sex: Sex = "male",
     criterion: Criterion = DEFAULT_PRESET,
     handover: Handover = True,
+    split_terms: SplitTerms = 0,
     seed: Annotated[int, typer.Option("--seed", help="Random start.", rich_help_panel=SOLVER)] = 0,
     solver: SolverName = "ipopt",
     nodes: Nodes = 20,
@@ -226,6 +228,7 @@ def predict(
         mass=mass, height=height, sex=sex, nodes=nodes, threads=threads, max_iter=max_iter,
         start=start, perturbation=perturbation, restarts=restarts, linear_solver=linear_solver,
         hsl_library=hsl_library, handover=handover, descriptors_from=descriptors_from,
+        split_terms=split_terms,
         **calibration_fields(calibration),
         **what_if.changes_option(strength, limits, added_mass, full_cycle, leg_length, equal_steps),
     )  # fmt: skip

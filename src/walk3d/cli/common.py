@@ -75,6 +75,12 @@ Criterion = Annotated[
         rich_help_panel=MODEL,
     ),
 ]
+SplitTerms = Annotated[
+    int,
+    typer.Option("--split-terms", rich_help_panel=MODEL, help="Free terms (0-4) of the trailing "
+                 "foot's load in double support, chosen by the solver; 0: the paper's split "
+                 "(docs/criteria.md)."),
+]  # fmt: skip
 Handover = Annotated[
     bool,
     typer.Option(
@@ -355,6 +361,8 @@ def settings_from_options(criterion: str, solver: str, seed: int, **fields):
         settings = PredictionSettings(criterion=criterion, **fields)
     except ValueError as exc:
         fail(first_error(exc))
+    if solver == "sqp" and settings.model.split_terms:
+        fail("--split-terms needs --solver ipopt (the SLSQP baseline solves the paper's split)")
     if settings.solver.linear_solver != "mumps" and solver == "ipopt":
         from walk3d.solve.options import linear_solver_error
 
