@@ -2,6 +2,7 @@
 the current model, and the fallback to standing."""
 
 import json
+import time
 from dataclasses import replace
 from types import SimpleNamespace
 
@@ -577,3 +578,40 @@ def test_a_level_kept_half_way_is_placed_at_the_factor_it_was_solved_at(tmp_path
     np.testing.assert_allclose(z(1.025), 1.25 * (0.5 + 0.5 * 11.0))
     np.savez(p, **levels)  # without ``reached``: at the nominal 1.1
     np.testing.assert_allclose(z(1.05), 1.25 * (0.5 + 0.5 * 11.0))
+
+
+def test_ctrl_c_in_an_atlas_try_ends_the_solve_without_another_try(monkeypatch):
+    """Ctrl-C while the first atlas start solves (sent from inside the fake stage, as IPOPT's
+    callback would see it): the stage stops on the flag, KeyboardInterrupt follows, and no
+    second start is tried. The control: a try that does not converge without a signal is
+    followed by the next start. Whoever calls ``solve_from_atlas`` (the landing's T and Td
+    from the atlas too) gets this."""
+    import os
+    import signal
+
+    from walk3d.solve.progress import INTERRUPT
+
+    tries: list = []
+
+    def fake_warm_stage(solver, stage, x, scale, on_stage, s0, warm=None, signal_it=True):
+        tries.append(s0)
+        if signal_it and len(tries) == 1:
+            try:
+                os.kill(os.getpid(), signal.SIGINT)
+                time.sleep(0.05)
+            except KeyboardInterrupt:  # raised inside IPOPT's callback, CasADi swallows it
+                pass
+        return _outcome(False, [{}])
+
+    monkeypatch.setattr(starts, "warm_stage", fake_warm_stage)
+    monkeypatch.setattr(starts, "build_solver", lambda ref, method: SimpleNamespace(plan={}))
+    monkeypatch.setattr(starts, "_last_stage", lambda *a, **k: None)
+    monkeypatch.setattr(starts, "merged", lambda first, free, method: free)
+    with pytest.raises(KeyboardInterrupt):
+        starts.solve_from_atlas(_ref(1.25))
+    assert len(tries) == 1 and not INTERRUPT.requested
+    tries.clear()
+    monkeypatch.setattr(starts, "warm_stage",
+                        lambda *a, **k: fake_warm_stage(*a, **k, signal_it=False))  # fmt: skip
+    starts.solve_from_atlas(_ref(1.25))
+    assert len(tries) > 1

@@ -21,7 +21,7 @@ from walk3d.problem import descriptors, layout, similarity
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve.ipopt import SolveOutcome, build_solver, descriptor_stage, merged, warm_stage
 from walk3d.solve.plan import Stage
-from walk3d.solve.progress import interruptible
+from walk3d.solve.progress import interruptible, raise_if_interrupted
 
 __all__ = ["atlas_noise", "solve_from_atlas", "solve_start", "solve_warm"]
 
@@ -91,7 +91,14 @@ def solve_from_atlas(
 ) -> SolveOutcome | None:
     """The full problem from the atlas's starts for ``settings``
     (:func:`walk3d.solve.atlas.candidates`, each plus :func:`atlas_noise`) until one converges
-    upright; the outcome of every try, or None (with a message) when the atlas has none."""
+    upright; the outcome of every try, or None (with a message) when the atlas has none.
+    Ctrl-C or SIGTERM stops the try it comes in and raises: no other start is tried."""
+    with interruptible():
+        return _from_atlas(settings, seed, method, on_stage)
+
+
+def _from_atlas(settings, seed, method, on_stage) -> SolveOutcome | None:
+    """:func:`solve_from_atlas`, inside its :func:`interruptible` block."""
     note = on_stage or (lambda _msg: None)
     ref, scale = similarity.reference_problem(settings)
     found, why = atlas.candidates(ref, tries=ATLAS_TRIES)
@@ -110,6 +117,7 @@ def solve_from_atlas(
             note(f"the atlas start did not converge: from its entry at {start.speeds[0]:.2f} m/s")
         warm = _usable_warm(solver, start.warm) if not (noise.any() or g.free) else None
         this = warm_stage(solver, stage, start.x + noise, scale, on_stage, s0, warm)
+        raise_if_interrupted()
         info = start.describe()
         if warm is None:  # the optima at other periods are used only with their multipliers
             info.pop("atlas_period_ratio", None)
@@ -130,8 +138,7 @@ def solve_start(
     ``standing``."""
     first = None
     if settings.solver.start == "atlas":
-        with interruptible():
-            first = solve_from_atlas(settings, seed, method, on_stage)
+        first = solve_from_atlas(settings, seed, method, on_stage)
         if first is not None and first.converged:
             return first
         if first is not None and on_stage:
