@@ -85,12 +85,13 @@ def _point(prob, seed=3):
     ("dynamics", "balance", "criterion", "checks", "split"),
     [
         (True, True, "tor=1,jerk=0.5,impact=2,arms=1", 0, 2),  # with a free split
-        (True, True, "en", 1, 0),
+        (True, True, "en", 1, 0),  # and a what-if joint limit: range rows
         (False, True, "tor", 0, 0),
     ],
 )
 def test_structured_derivatives_in_s_equal_casadi(dynamics, balance, criterion, checks, split):
-    s = _free(criterion=criterion, contact_checks=checks, split_terms=split)
+    limits = {"changes": {"limits": (("knee_flexion", -0.1, 0.1),)}} if checks else {}
+    s = _free(criterion=criterion, contact_checks=checks, split_terms=split, **limits)
     prob, _, _ = free_nlp.build_free_nlp(body_for(s), s, dynamics=dynamics, balance=balance)
     d = prob["derivatives"]
     jac, grad, hess = _reference(prob)
@@ -195,3 +196,20 @@ def test_settings_with_free_descriptors_refuse_rows_at_fixed_times():
     with pytest.raises(ValueError, match="loop_checks"):
         free_nlp.check_supported(_free(loop_checks=1))
     free_nlp.check_supported(_free())  # negative control
+
+
+def test_a_joint_limit_gives_the_free_nlp_the_bounds_range_rows():
+    """What-if joint limits (``--range``) with a predicted T or Td: the free NLP has the range
+    rows its bounds have (they were missing: IPOPT's rows and bounds then disagreed), linear in
+    the coefficients; without limits (the control) there are none."""
+    from walk3d.problem.bounds import bounds
+    from walk3d.problem.schedule import range_rows
+
+    for limits in ((("knee_flexion", -0.1, 0.1),), ()):
+        s = _free(changes={"limits": limits})
+        body = body_for(s)
+        prob, sch, _ = free_nlp.build_free_nlp(body, s, dynamics=False)
+        b = bounds(body, s, sch, dynamics=False, free=True)
+        assert prob["g"].numel() == b.lbg.size
+        n_range = range_rows(body, s)[0].shape[0]
+        assert (n_range > 0) == bool(limits)

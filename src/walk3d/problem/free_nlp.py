@@ -9,12 +9,11 @@ distance. ``z`` and ``g`` end with ``s`` and the two rows on ``Td / T`` (:mod:`.
 from __future__ import annotations
 
 import casadi as ca
-import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.problem import coupling, descriptors, layout, nlp
 from walk3d.problem.derivatives import NlpPieces, NodeDerivs, derivative_functions
-from walk3d.problem.schedule import lifting_maps, schedule
+from walk3d.problem.schedule import lifting_maps, range_rows, schedule
 from walk3d.problem.settings import PredictionSettings
 
 UNSUPPORTED = ("range_oversampling", "loop_checks", "heel_strike_nodes")
@@ -58,7 +57,12 @@ def build_free_nlp(
     jerk = descriptors.jerk_function(quad, gait.period)
     f = ca.mtimes(nc.fk[crit, :], weights) + jerk(x, s)
     z = ca.vertcat(x, ca.vec(nc.ys), nc.w0, ca.vec(nc.ts), s)
-    g = ca.vertcat(g_lift, ca.vec(nc.gk), nc.g_hs, descriptors.fraction_rows(s))
+    # joint-range rows (what-if limits): a dense half cycle of fixed phases, those of the first
+    # guess; with the limits on both sides (a one-sided change solves the full cycle), any half
+    # cycle of phases covers each joint's whole cycle by symmetry
+    range_np = range_rows(body, settings)[0]
+    g = ca.vertcat(g_lift, ca.vec(nc.gk), nc.g_hs, ca.mtimes(ca.sparsify(ca.DM(range_np)), x),
+                   descriptors.fraction_rows(s))  # fmt: skip
     prob = {"x": z, "f": f, "g": g}
     lift = lifting_maps(settings, sch)
     if settings.solver.derivatives == "structured":
@@ -67,9 +71,10 @@ def build_free_nlp(
             couple=coupling.node_coupling(nc.node, crit),
             xs=coupling.coefficient_coupling(lift_fn, jerk), threads=threads,
         )  # fmt: skip
-        lay = layout.NlpLayout(n, 0, 0, descriptors.N_S, 6 * settings.model.split_terms)
+        lay = layout.NlpLayout(n, range_np.shape[0], 0, descriptors.N_S,
+                               6 * settings.model.split_terms)
         pieces = NlpPieces(z=z, f=f, g=g, node0=nc.node0, node=nc.node, params=params, lift=lift,
-                           range_mat=np.zeros((0, layout.N_X)), hs_rows=nlp.G_ROWS["hs_wrench"],
+                           range_mat=range_np, hs_rows=nlp.G_ROWS["hs_wrench"],
                            hs_map=nc.hs_map, weight=weights, crit=crit, layout=lay,
                            g_loop=ca.MX(0, 1), x=x, threads=threads, node_derivs=node_derivs,
                            node0_derivs=node0_derivs, free=free)  # fmt: skip
