@@ -71,8 +71,9 @@ def build_free_nlp(
             couple=coupling.node_coupling(nc.node, crit),
             xs=coupling.coefficient_coupling(lift_fn, jerk), threads=threads,
         )  # fmt: skip
-        lay = layout.NlpLayout(n, range_np.shape[0], 0, descriptors.N_S,
-                               6 * settings.model.split_terms)
+        lay = layout.NlpLayout(
+            n, range_np.shape[0], 0, descriptors.N_S, 6 * settings.model.split_terms
+        )
         pieces = NlpPieces(z=z, f=f, g=g, node0=nc.node0, node=nc.node, params=params, lift=lift,
                            range_mat=range_np, hs_rows=nlp.G_ROWS["hs_wrench"],
                            hs_map=nc.hs_map, weight=weights, crit=crit, layout=lay,
