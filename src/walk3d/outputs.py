@@ -13,12 +13,14 @@ from __future__ import annotations
 import errno
 import os
 import shutil
+import stat
 from collections.abc import Callable, Collection, Iterator
 from contextlib import contextmanager
 from os import PathLike
 from pathlib import Path
 
 from walk3d.io.atomic import (
+    check_replaceable,
     file_temporary_of,
     folder_temporary_of,
     fsync_dir,
@@ -86,10 +88,11 @@ def _listed(names: list[str]) -> str:
 
 def foreign_files(folder: str | PathLike[str], own: Collection[str]) -> list[str]:
     """The entries of ``folder`` that walk3d did not write, as sorted relative paths (a folder
-    ends with ``/``): neither in ``own`` (relative paths, ``/``-separated) nor the temporary
-    an interrupted walk3d left of one (``.<name>.<12 hex>.tmp``, or for a sub-folder of
-    ``own`` its ``.tmp_<name>_<12 hex>`` beside an owner file: :mod:`walk3d.io.atomic`). A
-    sub-folder holding some of ``own`` is searched, any other is foreign."""
+    ends with ``/``): neither a regular file in ``own`` (relative paths, ``/``-separated) nor
+    the temporary an interrupted walk3d left of one (``.<name>.<12 hex>.tmp``, or for a
+    sub-folder of ``own`` its ``.tmp_<name>_<12 hex>`` beside an owner file:
+    :mod:`walk3d.io.atomic`). A sub-folder holding some of ``own`` is searched, any other is
+    foreign."""
     parents = {"/".join(p.split("/")[:k]) for p in own for k in range(1, p.count("/") + 1)}
     found: list[str] = []
 
@@ -107,11 +110,20 @@ def foreign_files(folder: str | PathLike[str], own: Collection[str]) -> list[str
                 continue
             if is_dir and rel in parents:
                 search(entry.path, rel + "/")
-            elif is_dir or rel not in own:
+            elif is_dir or rel not in own or not entry.is_file(follow_symlinks=False):
                 found.append(rel + "/" * is_dir)
 
     search(os.fspath(folder), "")
     return found
+
+
+def _irregular(path: Path) -> bool:
+    """Whether ``path`` is a device, FIFO, socket or link (lstat): what walk3d never writes."""
+    try:
+        kind = os.lstat(path).st_mode
+    except OSError:
+        return False
+    return not (stat.S_ISREG(kind) or stat.S_ISDIR(kind))
 
 
 def check_output_folder(
@@ -138,6 +150,11 @@ def check_output_folder(
                 f"{option} {shown} is a folder of other files (no {replaces}); use a new folder"
             )
         foreign = [] if own is None else foreign_files(out, own(out) if callable(own) else own)
+        odd = [name for name in foreign if _irregular(out / name)]
+        if odd:
+            raise ValueError(f"{option} {shown} holds {_listed(odd)}, not a regular file (a "
+                             "device, FIFO, socket or link): walk3d replaces only regular "
+                             "files; move it out or use a new folder")  # fmt: skip
         if foreign:
             raise ValueError(f"{option} {shown} holds an earlier result and files walk3d did not "
                              f"write ({_listed(foreign)}); move them out or use a new "
@@ -205,9 +222,9 @@ def write_errors(path: str | PathLike[str]) -> Iterator[None]:
 def replace_files(folder: str | PathLike[str], last: str) -> Iterator[Path]:
     """Build files in a temporary folder inside ``folder`` (``.<last>.<12 hex>.tmp``: a result
     folder check knows it as walk3d's), then move each over its namesake in ``folder``, the one
-    named ``last`` last (a manifest, or the file the others belong to). On any failure,
-    Ctrl-C included, the temporary is deleted and ``folder`` is left as it was; other files
-    are never touched."""
+    named ``last`` last (a manifest, or the file the others belong to). Nothing is moved if
+    one would replace a device, FIFO, socket or folder. On any failure, Ctrl-C included, the
+    temporary is deleted and ``folder`` is left as it was; other files are never touched."""
     target = Path(folder)
     target.mkdir(parents=True, exist_ok=True)
     tmp = temporary_beside(target / last)
@@ -215,6 +232,8 @@ def replace_files(folder: str | PathLike[str], last: str) -> Iterator[Path]:
     try:
         yield tmp
         built = sorted((p.name for p in tmp.iterdir()), key=lambda n: (n == last, n))
+        for name in built:  # all checked before the first is moved
+            check_replaceable(target / name)
         for name in built:
             os.replace(tmp / name, target / name)
         fsync_dir(target)

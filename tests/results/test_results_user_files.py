@@ -98,3 +98,29 @@ def test_a_killed_writers_temporaries_in_an_earlier_result_are_replaced(predicti
     (folder / ".tmp_validation_0123456789ab.owner").write_text("host 1 1\n")
     _save(prediction, folder)
     assert not [p.name for p in folder.iterdir() if p.name.startswith(".")]
+
+
+def test_an_earlier_result_holding_a_fifo_is_refused_and_the_fifo_kept(
+    prediction, tmp_path, capsys
+):
+    """A FIFO (as a device or socket) named like a file walk3d writes went with the earlier
+    result it was in; now the folder is refused, naming it, before any solve."""
+    import os
+    import stat
+
+    from helpers import cli, one_line_error
+
+    folder = _save(prediction, tmp_path / "r")
+    os.mkfifo(folder / "summary.png")
+    with pytest.raises(ValueError, match=r"holds summary.png, not a regular file"):
+        _save(prediction, folder)
+    with pytest.raises(ValueError, match="not a regular file"):  # walk3d.predict: before a solve
+        walk3d.predict(1.3, out=folder)
+    one_line_error(cli(capsys, "predict", "--out", folder, "--nodes", "1"), "summary.png",
+                   "not a regular file")  # fmt: skip
+    assert stat.S_ISFIFO(os.lstat(folder / "summary.png").st_mode)
+    # negative control: a regular summary.png there is replaced with the folder
+    (folder / "summary.png").unlink()
+    (folder / "summary.png").write_text("the earlier figure")
+    _save(prediction, folder)
+    assert not (folder / "summary.png").exists()  # saved without a figure this time
