@@ -12,23 +12,25 @@ from __future__ import annotations
 
 import errno
 import os
-import re
 import shutil
+import stat
 from collections.abc import Callable, Collection, Iterator
 from contextlib import contextmanager
 from os import PathLike
 from pathlib import Path
 
-from walk3d.io.atomic import TMP_PREFIX, fsync_dir, temporary_sibling
+from walk3d.io.atomic import (
+    check_replaceable,
+    file_temporary_of,
+    folder_temporary_of,
+    fsync_dir,
+    temporary_beside,
+)
 from walk3d.io.errors import OutputWriteError
 
 __all__ = ["NAME_MAX_BYTES", "TEMPORARY_BYTES", "check_folder_of_folders", "check_output_file",
            "check_output_folder", "foreign_files", "new_folder", "replace_files",
            "write_errors"]  # fmt: skip
-
-_ATOMIC_TEMPORARY = re.compile(r"^\..+\.[0-9a-f]{12}\.\w+$")
-"""The name of :func:`~walk3d.io.atomic.atomic_write`'s temporary file (``.name.<hex>.tmp``)."""
-
 
 NAME_MAX_BYTES = 255
 """Longest file or folder name, bytes, that common file systems hold (ext4, XFS, APFS)."""
@@ -78,25 +80,50 @@ def _writable_base(out: Path, option: str, path: str) -> None:
         raise ValueError(f"{option} {path} cannot be written ({base}: {why})")
 
 
+def _listed(names: list[str]) -> str:
+    """The first five of ``names`` for a one-line message, and how many more."""
+    more = f" and {len(names) - 5} more" if len(names) > 5 else ""
+    return ", ".join(names[:5]) + more
+
+
 def foreign_files(folder: str | PathLike[str], own: Collection[str]) -> list[str]:
     """The entries of ``folder`` that walk3d did not write, as sorted relative paths (a folder
-    ends with ``/``): neither in ``own`` (relative paths, ``/``-separated) nor walk3d's
-    temporaries; a sub-folder holding some of ``own`` is searched, any other is foreign."""
+    ends with ``/``): neither a regular file in ``own`` (relative paths, ``/``-separated) nor
+    the temporary an interrupted walk3d left of one (``.<name>.<12 hex>.tmp``, or for a
+    sub-folder of ``own`` its ``.tmp_<name>_<12 hex>`` beside an owner file:
+    :mod:`walk3d.io.atomic`). A sub-folder holding some of ``own`` is searched, any other is
+    foreign."""
     parents = {"/".join(p.split("/")[:k]) for p in own for k in range(1, p.count("/") + 1)}
     found: list[str] = []
+
+    def temporary(entry: os.DirEntry, prefix: str) -> bool:
+        name = file_temporary_of(entry.name)
+        if name is not None and prefix + name in own:
+            return entry.is_file(follow_symlinks=False) or entry.is_dir(follow_symlinks=False)
+        name = folder_temporary_of(Path(entry.path))
+        return name is not None and prefix + name in parents
 
     def search(base: str, prefix: str) -> None:
         for entry in sorted(os.scandir(base), key=lambda e: e.name):
             rel, is_dir = prefix + entry.name, entry.is_dir(follow_symlinks=False)
-            if entry.name.startswith(TMP_PREFIX) or _ATOMIC_TEMPORARY.match(entry.name):
-                continue  # an interrupted walk3d's
+            if temporary(entry, prefix):
+                continue
             if is_dir and rel in parents:
                 search(entry.path, rel + "/")
-            elif is_dir or rel not in own:
+            elif is_dir or rel not in own or not entry.is_file(follow_symlinks=False):
                 found.append(rel + "/" * is_dir)
 
     search(os.fspath(folder), "")
     return found
+
+
+def _irregular(path: Path) -> bool:
+    """Whether ``path`` is a device, FIFO, socket or link (lstat): what walk3d never writes."""
+    try:
+        kind = os.lstat(path).st_mode
+    except OSError:
+        return False
+    return not (stat.S_ISREG(kind) or stat.S_ISDIR(kind))
 
 
 def check_output_folder(
@@ -123,11 +150,15 @@ def check_output_folder(
                 f"{option} {shown} is a folder of other files (no {replaces}); use a new folder"
             )
         foreign = [] if own is None else foreign_files(out, own(out) if callable(own) else own)
+        odd = [name for name in foreign if _irregular(out / name)]
+        if odd:
+            raise ValueError(f"{option} {shown} holds {_listed(odd)}, not a regular file (a "
+                             "device, FIFO, socket or link): walk3d replaces only regular "
+                             "files; move it out or use a new folder")  # fmt: skip
         if foreign:
-            more = f" and {len(foreign) - 5} more" if len(foreign) > 5 else ""
             raise ValueError(f"{option} {shown} holds an earlier result and files walk3d did not "
-                             f"write ({', '.join(foreign[:5])}{more}); move them out or use a "
-                             "new folder")  # fmt: skip
+                             f"write ({_listed(foreign)}); move them out or use a new "
+                             "folder")  # fmt: skip
     _writable_base(out, option, shown)
     return out
 
@@ -142,18 +173,15 @@ def check_folder_of_folders(path: str | PathLike[str], option: str, replaces: st
     if not out.is_dir():
         return out
     foreign = []
-    for entry in sorted(os.scandir(out), key=lambda e: e.name):
-        if entry.name.startswith(TMP_PREFIX) or _ATOMIC_TEMPORARY.match(entry.name):
-            continue  # an interrupted walk3d's
+    for entry in sorted(os.scandir(out), key=lambda e: e.name):  # walk3d has no temporary here
         is_dir = entry.is_dir(follow_symlinks=False)
         if is_dir and (os.path.isfile(os.path.join(entry.path, replaces))
                        or not os.listdir(entry.path)):  # fmt: skip
             continue
         foreign.append(entry.name + "/" * is_dir)
     if foreign:
-        more = f" and {len(foreign) - 5} more" if len(foreign) > 5 else ""
         raise ValueError(f"{option} {os.fspath(path)} holds files walk3d did not write "
-                         f"({', '.join(foreign[:5])}{more}), not only folders with {replaces}; "
+                         f"({_listed(foreign)}), not only folders with {replaces}; "
                          "use a new folder")  # fmt: skip
     return out
 
@@ -191,18 +219,22 @@ def write_errors(path: str | PathLike[str]) -> Iterator[None]:
 
 
 @contextmanager
-def replace_files(folder: str | PathLike[str], last: str | None = None) -> Iterator[Path]:
-    """Build files in a temporary folder inside ``folder`` (hidden, same file system), then
-    move each over its namesake in ``folder`` (the one named ``last`` last, e.g. a manifest
-    or the file that the others belong to). On any failure, Ctrl-C included, the temporary
-    folder is deleted and ``folder`` is left as it was; other files in it are never touched."""
+def replace_files(folder: str | PathLike[str], last: str) -> Iterator[Path]:
+    """Build files in a temporary folder inside ``folder`` (``.<last>.<12 hex>.tmp``: a result
+    folder check knows it as walk3d's), then move each over its namesake in ``folder``, the one
+    named ``last`` last (a manifest, or the file the others belong to). Nothing is moved if
+    one would replace a device, FIFO, socket or folder. On any failure, Ctrl-C included, the
+    temporary is deleted and ``folder`` is left as it was; other files are never touched."""
     target = Path(folder)
-    tmp = temporary_sibling(target, "files")
+    target.mkdir(parents=True, exist_ok=True)
+    tmp = temporary_beside(target / last)
     tmp.mkdir()
     try:
         yield tmp
-        built = sorted(p.name for p in tmp.iterdir())
-        for name in sorted(built, key=lambda n: n == last):
+        built = sorted((p.name for p in tmp.iterdir()), key=lambda n: (n == last, n))
+        for name in built:  # all checked before the first is moved
+            check_replaceable(target / name)
+        for name in built:
             os.replace(tmp / name, target / name)
         fsync_dir(target)
     finally:

@@ -164,3 +164,27 @@ def test_a_run_killed_while_it_committed_gets_the_old_folder_back(tmp_path, comm
     remove_stale_temporaries(tmp_path, "out")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
     assert (tmp_path / "out" / "summary.json").read_text() == ("new" if committed else "old")
+
+
+def test_temporaries_are_known_by_their_exact_form(tmp_path):
+    """Only the exact names walk3d gives its temporaries count as one: a file writer's
+    ``.<name>.<12 hex>.tmp``, a folder's ``.tmp_<name>_<12 hex>`` beside its owner file."""
+    from walk3d.io.atomic import file_temporary_of, folder_temporary_of
+
+    assert file_temporary_of(".report.html.0123456789ab.tmp") == "report.html"
+    for name in (".mine.0123456789ab.bak", ".tmp_mine", ".report.html.0123456789ab.tmp.c3d",
+                 ".report.html.0123.tmp", "report.html.0123456789ab.tmp"):  # fmt: skip
+        assert file_temporary_of(name) is None, name
+    folder, old = (
+        tmp_path / ".tmp_validation_0123456789ab",
+        tmp_path / ".tmp_old_validation_0123456789ab",
+    )
+    folder.mkdir()
+    old.mkdir()
+    assert folder_temporary_of(folder) is None and folder_temporary_of(old) is None  # no owner
+    owner = tmp_path / ".tmp_validation_0123456789ab.owner"
+    owner.mkdir()
+    assert folder_temporary_of(folder) is None  # an owner that is a folder is no owner file
+    owner.rmdir()
+    owner.write_text("host 1 1\n")
+    assert [folder_temporary_of(p) for p in (folder, old, owner)] == ["validation"] * 3

@@ -85,14 +85,17 @@ def test_the_cli_and_the_api_share_one_output_check(monkeypatch, tmp_path):
 
 def _earlier_result(prediction, folder):
     """An earlier result with all that walk3d adds to it later: a report, a validation and
-    the temporaries of an interrupted walk3d."""
+    the temporaries of an interrupted walk3d (a view's files built aside, a file writer's, a
+    validation's folder with its owner file)."""
     _save(prediction, folder)
     (folder / "report.html").write_text("<html></html>")
     (folder / "validation").mkdir()
     for name in ("table2.csv", "grf.png"):
         (folder / "validation" / name).write_text("walk3d's")
-    (folder / ".tmp_files_0123456789ab").mkdir()
+    (folder / ".manifest.json.0123456789ab.tmp").mkdir()
     (folder / ".summary.json.0123456789ab.tmp").write_text("{")
+    (folder / ".tmp_validation_0123456789ab").mkdir()
+    (folder / ".tmp_validation_0123456789ab.owner").write_text("host 1 1\n")
     return folder
 
 

@@ -36,7 +36,14 @@ from walk3d.outputs import check_output_file, replace_files, write_errors
 from walk3d.trials.descriptors import descriptors_from_trial, foot_loads
 from walk3d.trials.kinematics import kinematics_from_storage
 
-__all__ = ["CalibrationResult", "calibrate_from_trial", "load_calibration"]
+__all__ = ["CalibrationResult", "calibrate_from_trial", "figure_paths", "load_calibration"]
+
+
+def figure_paths(out: str | PathLike[str]) -> tuple[Path, Path]:
+    """The roll-over and transition figures written beside the calibration file ``out``."""
+    path = Path(out)
+    return (path.with_name(f"{path.stem}_rollover.png"),
+            path.with_name(f"{path.stem}_transition.png"))  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -64,8 +71,9 @@ def calibrate_from_trial(
     OutputWriteError when they cannot be written). ValueError for a ``threshold`` or
     ``speed`` that is not a finite positive number, before any work."""
     positive_numbers(threshold=threshold, speed=speed)
-    if out is not None:
-        check_output_file(out, "out")
+    if out is not None:  # every file it writes: a device, FIFO or socket is refused now
+        for target in (out, *(figure_paths(out) if figures else ())):
+            check_output_file(target, "out")
     ik_s = read_storage(ik)
     loads = foot_loads(grf)
     desc = descriptors_from_trial(ik_s, loads, threshold=threshold, speed=speed)
@@ -97,10 +105,9 @@ def calibrate_from_trial(
         with write_errors(path), replace_files(path.parent, last=path.name) as tmp:
             write_calibration(tmp / path.name, cal.to_dict())  # moved last, after its figures
             if figures:
-                stem = path.stem
-                figs.append(rollover_figure(samples, rollover, body.rollover,
-                                            tmp / f"{stem}_rollover.png"))  # fmt: skip
-                figs.append(transition_figure(check, tmp / f"{stem}_transition.png"))
+                roll, transition = (tmp / f.name for f in figure_paths(path))
+                figs.append(rollover_figure(samples, rollover, body.rollover, roll))
+                figs.append(transition_figure(check, transition))
         figs = [path.parent / f.name for f in figs]
     return CalibrationResult(cal, check, path, tuple(figs), samples)
 

@@ -44,6 +44,8 @@ def report(
         check_output_file(str(target))  # a folder, a device, FIFO or socket: refused
     if not Path(folder).is_dir():
         fail(f"{folder} is not a folder")
+    if target is None:
+        check_output_file(str(Path(folder) / "report.html"), "the page")  # as --out is
     found = find_data(data)
     if data is not None and found is None:
         names = ", ".join(rel for rel, _ in SOURCES)

@@ -19,6 +19,7 @@ from walk3d.cli.common import (
     Restarts,
     Sex,
     app,
+    check_output_file,
     check_output_folder,
     console,
     fail,
@@ -65,6 +66,8 @@ def sweep(
     except ValueError as exc:
         fail(str(exc))
     check_output_folder(out, replaces="sweep.json")
+    for name in ("sweep.json", "sweep.csv", "sweep.png"):  # none a device or FIFO: refused now
+        check_output_file(f"{out}/{name}")
     t, td = first_guess(float(values[0]), height) if 1.0 <= height <= 2.4 else (1.0, 0.1)
     settings = settings_from_options(
         criterion, "ipopt", seed, speed=float(values[0]), period=t, double_support=td,

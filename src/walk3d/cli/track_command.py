@@ -155,6 +155,8 @@ def audit(
 
     if out is not None:  # a folder, device, FIFO, non-UTF-8 or too long name: refused now
         check_output_file(out, suffix=".json")
+    elif Path(tracked).is_dir():  # the default, refused alike
+        check_output_file(str(Path(tracked) / "audit.json"), "the audit")
     try:
         with console.status("walk3d: auditing"):
             result = run(tracked, predicted)

@@ -115,12 +115,14 @@ def calibrate(
     OUT_transition.png beside it: all three or none. Exit code 2 for bad input, 3 if they
     cannot be written (nothing is changed)."""
     from walk3d.body.model import build_body
-    from walk3d.calibration.calibrate import calibrate_from_trial
+    from walk3d.calibration.calibrate import calibrate_from_trial, figure_paths
     from walk3d.calibration.tables import calibration_table
     from walk3d.io.errors import DataFileError, OutputWriteError
 
     positive_options(mass=mass, height=height, threshold=threshold, speed=speed)  # before work
     check_output_file(out)
+    for figure in figure_paths(out):  # written beside it: none a device or FIFO either
+        check_output_file(str(figure), "the figure")
     if sex not in ("male", "female"):
         fail(f"--sex must be 'male' or 'female', got {sex!r}")
     try:

@@ -4,6 +4,7 @@ or a whole folder."""
 from __future__ import annotations
 
 import os
+import re
 import secrets
 import shutil
 import signal
@@ -26,9 +27,12 @@ __all__ = [
     "atomic_write_bytes",
     "atomic_write_text",
     "check_replaceable",
+    "file_temporary_of",
+    "folder_temporary_of",
     "fsync_dir",
     "remove_stale_temporaries",
     "signals_deferred",
+    "temporary_beside",
     "temporary_sibling",
 ]
 
@@ -45,6 +49,22 @@ def check_replaceable(target: Path) -> None:
         raise FileExistsError(f"{target} is not a regular file: walk3d writes only regular files")
 
 
+def temporary_beside(target: Path, suffix: str = ".tmp") -> Path:
+    """A fresh name ``.<name>.<12 hex><suffix>`` next to ``target``, where a writer builds what
+    then replaces it (:func:`file_temporary_of` recognises the ``.tmp`` form)."""
+    return target.with_name(f".{target.name}.{secrets.token_hex(6)}{suffix}")
+
+
+_FILE_TEMPORARY = re.compile(r"\.(?P<name>.+)\.[0-9a-f]{12}\.tmp")
+
+
+def file_temporary_of(name: str) -> str | None:
+    """The output name whose temporary ``name`` has the form of (``.<output>.<12 hex>.tmp``,
+    :func:`temporary_beside`), or None: what a writer killed before its rename leaves."""
+    match = _FILE_TEMPORARY.fullmatch(name)
+    return match["name"] if match else None
+
+
 def atomic_write(path: str | PathLike[str], write: Callable[[IO[bytes]], object]) -> Path:
     """Call ``write(handle)`` on a temporary file next to ``path``, then move it over ``path``.
 
@@ -54,7 +74,7 @@ def atomic_write(path: str | PathLike[str], write: Callable[[IO[bytes]], object]
     """
     target = Path(path)
     check_replaceable(target)
-    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp")
+    tmp = temporary_beside(target)
     fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
     try:
         with os.fdopen(fd, "wb") as handle:
@@ -75,7 +95,7 @@ def atomic_path(path: str | PathLike[str], suffix: str = ".tmp") -> Iterator[Pat
     removed and an existing ``path`` is left untouched. ``suffix`` ends the temporary name."""
     target = Path(path)
     check_replaceable(target)
-    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}{suffix}")
+    tmp = temporary_beside(target, suffix)
     try:
         yield tmp
         with open(tmp, "rb") as handle:
@@ -135,6 +155,28 @@ OWNER_SUFFIX = ".owner"
 <pid> <start time>`` of the process building it (:mod:`walk3d.io.processes`; no start time
 where it cannot be read), so that a later run removes both once that process has ended, and
 nothing else."""
+
+
+_FOLDER_TEMPORARY = re.compile(
+    r"\.tmp_(?P<old>old_)?(?P<name>.+)_(?P<key>[0-9a-f]{12})(?P<owner>\.owner)?"
+)
+
+
+def folder_temporary_of(path: Path) -> str | None:
+    """The folder name whose :func:`atomic_folder` temporary ``path`` is, or None: the folder
+    ``.tmp_<name>_<12 hex>``, the old folder ``.tmp_old_<name>_<12 hex>`` or the owner file
+    ``.tmp_<name>_<12 hex>.owner``, each only beside that owner file (a killed run leaves it;
+    a user's folder of such a name has none)."""
+    match = _FOLDER_TEMPORARY.fullmatch(path.name)
+    if match is None or (match["old"] and match["owner"]):
+        return None
+    owner = path.with_name(f"{TMP_PREFIX}{match['name']}_{match['key']}{OWNER_SUFFIX}")
+    try:
+        kind, owner_kind = os.lstat(path).st_mode, os.lstat(owner).st_mode
+    except OSError:  # gone, or no owner file
+        return None
+    expected = stat.S_ISREG(kind) if match["owner"] else stat.S_ISDIR(kind)
+    return match["name"] if expected and stat.S_ISREG(owner_kind) else None
 
 
 def _owner_line() -> str:
