@@ -43,6 +43,10 @@ def test_root_names_are_the_api_even_after_the_pipeline_module_is_imported():
         walk3d.nonsense  # noqa: B018
 
 
+BOOL_STRENGTH = {"changes": {"strength": {"ankle": np.bool_(True)}}}
+LIMITS_OF_THREE = {"changes": {"limits": {"knee_flexion": (-0.1, 0, 0.1)}}}
+
+
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
@@ -58,6 +62,12 @@ def test_root_names_are_the_api_even_after_the_pipeline_module_is_imported():
         ({"speed": "1.2"}, "speed must be a number"),
         ({"speed": 1.3, "height": None}, "height must be a number"),
         ({"speed": 1.3, "seed": True}, "seed must be a non-negative integer"),
+        # issue #60: numpy bools, bools in calibration ratios, absurd factors, malformed limits
+        (BOOL_STRENGTH, r"strength of ankle must be a factor, not a bool"),
+        ({"transition_ratios": (True, 0.0, 0.1, 0.1)}, "transition_ratios must hold numbers"),
+        ({"friction": np.bool_(True)}, "friction must be a number, not a bool"),
+        ({"changes": {"strength": {"ankle": 1e300}}}, r"must be in \[0.01, 10\], got 1e\+300"),
+        (LIMITS_OF_THREE, r"limits of knee_flexion must be \(low, high\) in rad"),
     ],
 )
 def test_bad_input_is_one_line_value_error_before_any_solve(monkeypatch, kwargs, message):
@@ -70,6 +80,29 @@ def test_bad_input_is_one_line_value_error_before_any_solve(monkeypatch, kwargs,
     with pytest.raises(ValueError, match=message) as info:
         walk3d.predict(**kwargs)
     assert "\n" not in str(info.value)
+
+
+class _Solved(Exception):
+    """walk3d.pipeline.predict was reached: the options were accepted."""
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [{"changes": {"strength": {"ankle": np.float64(0.5)}}},
+     {"transition_ratios": (0.2, 0.0, 0.1, 0.1)}, {"handover": np.bool_(False)},
+     {"changes": {"strength": {"ankle": 10.0}, "limits": {"knee_flexion": (-0.1, 1.5)}}}],
+)  # fmt: skip
+def test_numbers_in_range_reach_the_solve(monkeypatch, kwargs):
+    """Negative control of the bools and absurd values above: numbers, a numpy float among
+    them, and a numpy bool for a switch are accepted."""
+    import walk3d.pipeline
+
+    def solve(settings, *a, **k):
+        raise _Solved(settings)
+
+    monkeypatch.setattr(walk3d.pipeline, "predict", solve)
+    with pytest.raises(_Solved):
+        walk3d.predict(speed=1.3, **kwargs)
 
 
 def test_settings_defaults_are_the_command_line_defaults():

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from walk3d.campaign.sweep import SweepMismatch, run_sweep, speed_folder
+from walk3d.campaign.sweep_folder import check_arrays
 from walk3d.problem import descriptors
 from walk3d.problem.settings import PredictionSettings
 from walk3d.results.prediction import MANIFEST, RESULT_FILES
@@ -27,13 +28,15 @@ class Fake:
 
 
 def fake_summary(settings):
-    """A summary with what the sweep reads, recording ``settings``."""
+    """A summary with what the sweep reads, recording ``settings``; its period is the speed's
+    own (shorter when faster, as solved ones are), not the first guess it was given."""
     g = settings.gait
+    period = round(1.3 - 0.2 * g.speed, 9)
     return {"settings": settings.model_dump(mode="json"),
-            "descriptors": {"speed": g.speed, "period": g.period,
+            "descriptors": {"speed": g.speed, "period": period,
                             "double_support": g.double_support,
-                            "stride_length": g.speed * g.period, "cadence": 120 / g.period,
-                            "stance_fraction": 0.5 + g.double_support / g.period,
+                            "stride_length": g.speed * period, "cadence": 120 / period,
+                            "stance_fraction": 0.5 + g.double_support / period,
                             "predicted": list(g.free)},
             "converged": True, "status": "Solve_Succeeded", "start": "standing",
             "iterations": 7, "wall_time_s": 1.0, "coefficients": {"x": [g.speed]},
@@ -46,8 +49,10 @@ def write_fake(pred, folder):
     for name in RESULT_FILES:
         (folder / name).write_text("x\n")
     d = pred.summary.get("descriptors") if isinstance(pred.summary, dict) else None
-    speed = str((d or {}).get("speed"))[:8]
-    (folder / "result.npz").write_text(f"arrays at {speed:>8s}\n")  # the same size at any speed
+    period = (d or {}).get("period")
+    period = period if isinstance(period, float) else 1.0
+    with open(folder / "result.npz", "wb") as fh:  # the same size at any speed
+        np.savez(fh, time=np.linspace(0.0, period, 11))
     (folder / "summary.json").write_text(json.dumps(pred.summary))
     files = {p.name: p.stat().st_size for p in folder.iterdir() if p.name != MANIFEST}
     digest = hashlib.sha256((folder / "result.npz").read_bytes()).hexdigest()
@@ -148,6 +153,77 @@ def test_a_damaged_speed_folder_is_solved_again_with_a_warning(tmp_path, solves,
     assert (report.ran, report.skipped, solves) == (1, 1, [1.2]) and _table(out) == [1.2, 1.4]
     again = run_sweep(SETTINGS, SPEEDS, out)  # control: the solved-again folder is whole
     assert again.skipped == 2
+
+
+def _rewrite_manifests(out, swap, digests):
+    """Swap the two speeds' ``result.npz`` (when ``swap``), then delete the manifests' digests
+    (``"drop"``: as a walk3d before digests wrote them) or make them the files' own
+    (``"rewrite"``)."""
+    a, b = (speed_folder(out, v) / "result.npz" for v in SPEEDS)
+    if swap:
+        data = a.read_bytes()
+        a.write_bytes(b.read_bytes())
+        b.write_bytes(data)
+    for npz in (a, b):
+        manifest = json.loads((npz.parent / MANIFEST).read_text())
+        if digests == "drop":
+            del manifest["sha256"]
+        else:
+            manifest["sha256"]["result.npz"] = hashlib.sha256(npz.read_bytes()).hexdigest()
+        (npz.parent / MANIFEST).write_text(json.dumps(manifest))
+
+
+@pytest.mark.parametrize(
+    ("swap", "digests", "words"),
+    [(True, "drop", "holds no digest of result.npz"),
+     (False, "drop", "holds no digest of result.npz"),
+     (True, "rewrite", "its result.npz is not its summary's: the arrays' cycle runs 0 to")],
+    ids=["swapped-no-digest", "no-digest", "swapped-digest-rewritten"],
+)  # fmt: skip
+def test_arrays_not_tied_to_their_summary_are_solved_again(tmp_path, solves, swap, digests,
+                                                           words):  # fmt: skip
+    """Arrays swapped between the two speeds, with the manifests' digests deleted or rewritten,
+    were resumed ("0 speeds solved, 2 resumed"); a folder without digests cannot show that its
+    arrays are its summary's either. Each is solved again, with one warning."""
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, SPEEDS, out)
+    _rewrite_manifests(out, swap, digests)
+    solves.clear()
+    with pytest.warns(RuntimeWarning) as caught:
+        report = run_sweep(SETTINGS, SPEEDS, out)
+    assert (report.ran, report.skipped, sorted(solves)) == (2, 0, [1.2, 1.4])
+    messages = [str(w.message) for w in caught if w.category is RuntimeWarning]
+    assert len(messages) == 2 and all(words in m and "\n" not in m for m in messages), messages
+    solves.clear()
+    again = run_sweep(SETTINGS, SPEEDS, out)  # control: the solved-again folders are whole
+    assert (again.skipped, solves) == (2, []) and _table(out) == [1.2, 1.4]
+
+
+def test_intact_arrays_with_their_digest_rewritten_are_resumed(tmp_path, solves):
+    """Negative control: rewriting each manifest's digest with its own file's changes nothing."""
+    out = tmp_path / "s"
+    run_sweep(SETTINGS, SPEEDS, out)
+    _rewrite_manifests(out, False, "rewrite")
+    solves.clear()
+    assert run_sweep(SETTINGS, SPEEDS, out).skipped == 2 and solves == []
+
+
+def test_a_real_result_folder_is_tied_to_its_summary(tmp_path):
+    """On walk3d predict's own files (the atlas's 1.3 m/s solution) the arrays pass; under a
+    summary of another period, or without the manifest's digest, they do not."""
+    from result_support import result_folder
+
+    folder = result_folder(tmp_path / "r")
+    summary = json.loads((folder / "summary.json").read_text())
+    check_arrays(folder, summary)  # control
+    other = json.loads((folder / "summary.json").read_text())
+    other["descriptors"]["period"] *= 1 + 1e-6
+    with pytest.raises(ValueError, match="its result.npz is not its summary's"):
+        check_arrays(folder, other)
+    manifest = json.loads((folder / MANIFEST).read_text())
+    (folder / MANIFEST).write_text(json.dumps({"files": manifest["files"]}))
+    with pytest.raises(ValueError, match="holds no digest of result.npz"):
+        check_arrays(folder, summary)
 
 
 def test_a_summary_the_sweep_cannot_tabulate_is_solved_again(tmp_path, solves):

@@ -52,6 +52,59 @@ def test_compile_on_a_full_disk_exits_3_with_one_line(small, capsys, monkeypatch
     assert not list(small.glob(".build-*")) and not list(small.glob("lib-*"))
 
 
+def _entries_first(monkeypatch, entry_fails):
+    """The small compile writing two model cache entries first (the same one twice), as the
+    real compile does while it builds the model functions; ``entry_fails``: their writes end in
+    ENOSPC while the libraries still fit."""
+    import errno
+
+    import casadi as ca
+
+    import walk3d.cli.compile as compile_command
+    from walk3d.solve import model_cache
+
+    small_compile = compile_command.compile_solver
+    if entry_fails:
+
+        def no_room(*a):
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+        monkeypatch.setattr(model_cache, "atomic_write_text", no_room)
+
+    def compile_solver(settings, on_done=None, jobs=None):
+        x = ca.SX.sym("x")
+        for key in ("a", "b", "b"):
+            model_cache.write_functions(key, {"f": ca.Function("f", [x], [x])})
+        return small_compile(settings, on_done, jobs)
+
+    monkeypatch.setattr(compile_command, "compile_solver", compile_solver)
+
+
+@needs_cc
+def test_compile_on_a_full_disk_prints_no_warning_before_its_error(small, capsys, monkeypatch,
+                                                                    caplog):  # fmt: skip
+    """The model cache's entries that did not fit gave three warning lines (one repeated) before
+    the error line; now the error line is alone. Outside pytest, a log record that reaches no
+    handler is printed on stderr; here pytest's log capture stands for that."""
+    _entries_first(monkeypatch, entry_fails=False)
+    full_disk(monkeypatch)
+    _one_line_exit_3(cli(capsys, "compile"), "walk3d compile: could not write",
+                     "no space left on device")  # fmt: skip
+    assert [r.getMessage() for r in caplog.records if r.name.startswith("walk3d.")] == []
+
+
+@needs_cc
+def test_a_compile_that_ends_prints_each_cache_warning_once(small, capsys, monkeypatch):
+    """Negative control: with room for the libraries, the compile ends (exit 0) and says, once
+    per entry, which model cache entries could not be written."""
+    _entries_first(monkeypatch, entry_fails=True)
+    code, out, err = cli(capsys, "compile")
+    lines = err.strip().splitlines()
+    assert code == 0 and "walk3d compile: 2 libraries" in out, err
+    warning = "walk3d: warning: could not write the model cache entry"
+    assert len(lines) == 2 and all(line.startswith(warning) for line in lines), err
+
+
 @needs_cc
 def test_compile_with_room_compiles(small, capsys):
     """Negative control: the same compile without the full disk."""

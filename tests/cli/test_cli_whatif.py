@@ -41,6 +41,14 @@ BAD = [
     (["--strength", "ankle=0.5", "--strength", "ankle=0.4"], "names the same part twice"),
     (["--strength", "ankle=0.5", "--strength", "ankle_r=0.4"], "names the same part twice"),
     (["--added-mass", "torso=3", "--added-mass", "torso=4"], "names the same part twice"),
+    # issue #60: float() reads 1_0 as 10 and Arabic-Indic digits; 1e300 overflowed the solve
+    (["--strength", "ankle=1_0"], "ankle='1_0' is not a finite decimal number"),
+    (["--strength", "ankle=\u0660.5"], "is not a finite decimal number"),
+    (["--range", "knee_flexion=-5:1_0"], "knee_flexion='1_0' is not a finite decimal number"),
+    (["--added-mass", "torso=1_0"], "torso='1_0' is not a finite decimal number"),
+    (["--strength", "ankle=1e300"], "must be in [0.01, 10], got 1e+300"),
+    (["--strength", "ankle=0.001"], "must be in [0.01, 10], got 0.001"),
+    (["--period", "1_0"], "--period must be a positive number of seconds or auto, got '1_0'"),
 ]
 
 
@@ -87,6 +95,26 @@ def test_a_single_what_if_spec_is_accepted(capsys, tmp_path, solve):
     """Negative control: one --strength list, as before."""
     changes = _accepted(capsys, tmp_path, solve, "--strength", "ankle=0.5,knee=0.8")
     assert sorted(changes.strength) == [("ankle", 0.5), ("knee", 0.8)]
+
+
+def test_decimal_numbers_at_the_ends_of_the_strength_range_are_accepted(capsys, tmp_path, solve):
+    """Negative control of 1_0 and 1e300: plain decimals, with an exponent or a sign, and the
+    range's ends are read as written."""
+    changes = _accepted(capsys, tmp_path, solve, "--strength", "ankle=1e1,knee=+.01,hip=2E-1",
+                        "--range", "knee_flexion=-5.:60")  # fmt: skip
+    assert sorted(changes.strength) == [("ankle", 10.0), ("hip", 0.2), ("knee", 0.01)]
+    assert [round(math.degrees(lo), 9) for _, lo, _ in changes.limits] == [-5.0]
+
+
+def test_sweep_refuses_a_speed_with_an_underscore(capsys, tmp_path, monkeypatch):
+    """``--speeds 1_2`` was read as 12 m/s and refused as out of range; ``1_0,1_1`` as 10, 11."""
+    import walk3d.campaign.sweep as sweep
+
+    monkeypatch.setattr(sweep, "run_sweep", lambda *a, **k: pytest.fail("the sweep started"))
+    one_line_error(cli(capsys, "sweep", "--speeds", "0_1,1.2", "--out", tmp_path / "s"),
+                   "--speeds 0_1,1.2: expected start:stop:step")  # fmt: skip
+    assert not (tmp_path / "s").exists()
+    assert list(sweep.parse_speeds("0.1, 1.2")) == [0.1, 1.2]  # control
 
 
 @pytest.mark.parametrize("values", [("-0.01", "-0.02"), ("-0.02", "-0.02")], ids=["two", "same"])

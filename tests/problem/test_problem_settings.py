@@ -2,6 +2,7 @@
 
 import math
 
+import numpy as np
 import pytest
 
 from walk3d.problem.settings import (
@@ -133,6 +134,31 @@ def test_the_atlas_and_sweep_ranges_are_within_the_given_bounds():
             entries += 1
     assert entries > 10
     PredictionSettings(period=1.08, double_support=0.16)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [({"transition_ratios": (True, 0.0, 0.1, 0.1)}, "transition_ratios must hold numbers"),
+     ({"rollover_s": (-0.2, np.bool_(False), 0.2), "rollover_ankle": ((0, 0, 0),) * 3},
+      "rollover_s must hold numbers, not a bool"),
+     ({"friction": np.bool_(True)}, "friction must be a number, not a bool"),
+     ({"nodes": True}, "nodes must be a number"),
+     ({"balance_progress_check": ((60, True),)}, "balance_progress_check must hold numbers"),
+     ({"rollover_s": (-0.2, math.inf, 0.2)}, "rollover_s must hold finite numbers")],
+)  # fmt: skip
+def test_a_bool_or_non_finite_value_in_a_numeric_setting_is_refused(kwargs, words):
+    """``transition_ratios=(True, ...)`` was read as μ_x = 1.0 and solved."""
+    with pytest.raises(ValueError) as info:
+        PredictionSettings(**kwargs)
+    assert words in str(info.value) and "\n" not in str(info.value)
+
+
+def test_switches_take_bools_and_numeric_settings_numbers():
+    """Negative control: a bool (numpy's too) is a switch's value, numbers are accepted."""
+    s = PredictionSettings(handover=np.bool_(False), passive=True, nodes=12, friction=1,
+                           transition_ratios=(0.2, 0.0, 0.1, 0.1))  # fmt: skip
+    assert (s.model.handover, s.model.passive, s.solver.nodes) == (False, True, 12)
+    assert s.model.transition_ratios == (0.2, 0.0, 0.1, 0.1) and s.model.friction == 1.0
 
 
 def test_pydantic_errors_become_one_plain_line():

@@ -130,6 +130,43 @@ def test_unreadable_payload_with_a_valid_checksum_reads_as_a_miss(cache_dir):
     assert model_cache.read_functions(key) is None
 
 
+def _within(seconds: float, call):
+    """``call()``'s value, or a failure if it has not returned after ``seconds`` (it runs in a
+    daemon thread, so a read blocked for ever does not hold the test run)."""
+    import threading
+
+    out = []
+    worker = threading.Thread(target=lambda: out.append(call()), daemon=True)
+    worker.start()
+    worker.join(seconds)
+    assert out, f"still blocked after {seconds} s"
+    return out[0]
+
+
+def test_a_fifo_in_the_cache_is_never_read(cache_dir):
+    """A ``.sha256`` digest that is a FIFO made walk3d predict hang in its read; so did a
+    model entry. Each is refused as not a regular file, and counts as missing."""
+    import hashlib
+    import os
+
+    from walk3d.solve import compiled
+
+    lib = cache_dir / "lib-k-f.so"
+    lib.write_bytes(b"library bytes")
+    digest = compiled.digest_path(lib)
+    digest.write_text(hashlib.sha256(b"library bytes").hexdigest() + "\n")
+    assert _within(5, lambda: compiled.verified(lib)) is None  # control: a regular digest
+    digest.unlink()
+    os.mkfifo(digest)
+    assert "not a regular file" in _within(5, lambda: compiled.verified(lib))
+    key = "0123456789abcdef"
+    entry = model_cache.write_functions(key, _small_functions())
+    assert set(_within(5, lambda: model_cache.read_functions(key))) == {"f", "g"}  # control
+    entry.unlink()
+    os.mkfifo(entry)
+    assert _within(5, lambda: model_cache.read_functions(key)) is None
+
+
 def test_cached_functions_evaluate_like_the_originals(cache_dir):
     fns = _small_functions()
     model_cache.write_functions("k", fns)

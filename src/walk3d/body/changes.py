@@ -18,8 +18,8 @@ import numpy as np
 
 from walk3d.body.model import JOINT_NAMES, SEGMENT_NAMES, BodyModel, build_body
 
-__all__ = ["DOF_KINDS", "JOINT_KINDS", "SEGMENT_KINDS", "apply_changes", "check_changes",
-           "expand", "is_one_sided", "limited_dofs"]  # fmt: skip
+__all__ = ["DOF_KINDS", "JOINT_KINDS", "SEGMENT_KINDS", "STRENGTH_FACTORS", "apply_changes",
+           "check_changes", "expand", "is_one_sided", "limited_dofs"]  # fmt: skip
 
 JOINT_KINDS = tuple(dict.fromkeys(n.removesuffix("_r").removesuffix("_l") for n in JOINT_NAMES))
 """Joint names a strength change takes: waist, neck, shoulder, elbow, hip, knee, ankle."""
@@ -34,6 +34,10 @@ DOF_KINDS = tuple(dict.fromkeys(n.removesuffix("_r").removesuffix("_l") for n in
 MAX_SHANK_CHANGE_M = 0.1
 """Largest shank length change, m: leg-length differences above about 2 cm are treated
 clinically, and 10 cm is far beyond a shoe lift's range."""
+STRENGTH_FACTORS = (0.01, 10.0)
+"""Accepted strength factors: at 1 % a joint is all but paralysed, and ten times its strength is
+far beyond training (tens of percent) or an assistive device; factors far outside (1e300, 1e-300)
+overflow the criterion's moment-over-strength terms."""
 MAX_ADDED_MASS_KG = 60.0
 """Largest added mass per segment, kg: a heavy load carriage (military packs reach 40–60 kg)."""
 
@@ -68,10 +72,10 @@ def check_changes(
     shank_length: tuple[tuple[str, float], ...] = (),
 ) -> None:
     """Raise ValueError, one line, for the first bad change: a value that is not a finite
-    number (a bool included), an unknown name, a factor ≤ 0, a negative mass, a limit beyond
-    ±π rad (with a hint when it looks like degrees), an empty limit or one that excludes
-    standing (angle 0), a shank change that is not a shank's or beyond
-    ±:data:`MAX_SHANK_CHANGE_M`, a part named twice."""
+    number (a bool included), an unknown name, a factor outside :data:`STRENGTH_FACTORS`, a
+    mass outside [0, :data:`MAX_ADDED_MASS_KG`], a limit beyond ±π rad (with a hint when it
+    looks like degrees), an empty limit or one that excludes standing (angle 0), a shank change
+    that is not a shank's or beyond ±:data:`MAX_SHANK_CHANGE_M`, a part named twice."""
     for what, items in (("strength factor", strength), ("added mass", added_mass),
                         ("limit", limits), ("length change", shank_length)):  # fmt: skip
         for name, *values in items:
@@ -81,8 +85,10 @@ def check_changes(
     for name, factor in strength:
         if msg := _name_error(name, JOINT_KINDS, JOINT_NAMES, "joint"):
             raise ValueError(msg)
-        if not factor > 0:
-            raise ValueError(f"strength factor of {name!r} must be > 0, got {factor:g}")
+        lo, hi = STRENGTH_FACTORS
+        if not lo <= factor <= hi:
+            raise ValueError(f"strength factor of {name!r} must be in [{lo:g}, {hi:g}], "
+                             f"got {factor:g}")  # fmt: skip
     for name, kg in added_mass:
         if msg := _name_error(name, SEGMENT_KINDS, SEGMENT_NAMES, "segment"):
             raise ValueError(msg)

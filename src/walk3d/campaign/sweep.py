@@ -36,7 +36,7 @@ import numpy as np
 
 from walk3d.campaign.sweep_folder import SweepMismatch, check_folder, speed_folder, stored
 from walk3d.io.atomic import atomic_write_text
-from walk3d.io.checks import read_json_object
+from walk3d.io.checks import decimal, read_json_object
 from walk3d.model import terms
 from walk3d.problem import descriptors
 from walk3d.problem.settings import PredictionSettings
@@ -64,6 +64,14 @@ in between (``;``-separated), whose iterations and time are not in ``iterations`
 ``wall_time_s``."""
 
 
+def _speed(text: str) -> float:
+    """A speed's text as a number; ValueError unless plainly decimal (``1_2`` is not 12)."""
+    v = decimal(text)
+    if math.isnan(v):
+        raise ValueError
+    return v
+
+
 def parse_speeds(text: str) -> np.ndarray:
     """``start:stop:step`` (stop included) or a comma list, m/s; ValueError for a range that is
     empty, reversed, outside (0, 4] m/s or of more than :data:`MAX_SPEEDS` speeds (counted
@@ -72,7 +80,7 @@ def parse_speeds(text: str) -> np.ndarray:
     :func:`speed_folder`)."""
     try:
         if ":" in text:
-            parts = [float(p) for p in text.split(":")]
+            parts = [_speed(p) for p in text.split(":")]
             if len(parts) != 3:
                 raise ValueError
             a, b, step = parts
@@ -90,7 +98,7 @@ def parse_speeds(text: str) -> np.ndarray:
             items = text.split(",")
             if not all(p.strip() for p in items):
                 raise ValueError(f"--speeds {text}: an empty item (a list like 1.0,1.2,1.4)")
-            speeds = np.array([float(p) for p in items])
+            speeds = np.array([_speed(p) for p in items])
         else:
             speeds = np.array([])
     except ValueError as exc:

@@ -3,8 +3,9 @@ before any solve (:mod:`walk3d.campaign.sweep` has the layout).
 
 * ``sweep.json`` that cannot be read, is not a sweep's, or holds other settings: refused
   (:class:`SweepMismatch`, one line and exit code 2 in the CLI);
-* a speed folder that is damaged (incomplete, or a summary that cannot be read): solved again,
-  with a warning. walk3d writes each speed atomically, so such a folder holds no usable work;
+* a speed folder that is damaged (incomplete, or a summary that cannot be read) or whose
+  arrays are not tied to its summary (:func:`check_arrays`): solved again, with a warning.
+  walk3d writes each speed atomically, so such a folder holds no usable work;
 * a speed folder holding a readable prediction of another problem (another speed, subject or
   criterion...): refused, not replaced, since it may be someone's result put there by mistake;
 * a speed path walk3d could not write its result to (a file, a folder of other files, a
@@ -22,12 +23,12 @@ from pathlib import Path
 import numpy as np
 
 from walk3d.io.atomic import atomic_write_text
-from walk3d.io.checks import read_json_object
+from walk3d.io.checks import read_json_object, read_npz, time_samples
 from walk3d.io.errors import DataFileError
 from walk3d.problem.settings import ModelSettings, PredictionSettings, recorded_settings
 
-__all__ = ["PROBLEM_FIELDS", "SweepMismatch", "check_folder", "difference", "speed_folder",
-           "stored"]  # fmt: skip
+__all__ = ["PROBLEM_FIELDS", "SweepMismatch", "check_arrays", "check_folder", "difference",
+           "speed_folder", "stored"]  # fmt: skip
 
 
 class SweepMismatch(ValueError):
@@ -108,6 +109,28 @@ def difference(summary: dict, settings: PredictionSettings, speed: float) -> str
     return None
 
 
+def check_arrays(folder: Path, summary: dict) -> None:
+    """Raise ValueError unless ``folder``'s ``result.npz`` is its summary's: its manifest holds
+    the arrays' digest (:func:`~walk3d.results.prediction.check_complete` checks it; folders
+    written before digests have none), and their time runs from 0 to the summary's period, so
+    that arrays swapped between speeds are caught even under a rewritten digest."""
+    from walk3d.results.prediction import MANIFEST
+
+    digests = read_json_object(folder / MANIFEST, "walk3d manifest").get("sha256")
+    if not isinstance(digests, dict) or not isinstance(digests.get("result.npz"), str):
+        raise ValueError("its manifest holds no digest of result.npz (a walk3d before digests "
+                         "wrote it), so its arrays cannot be tied to its summary")  # fmt: skip
+    period = summary["descriptors"]["period"]
+    if isinstance(period, bool) or not isinstance(period, (int, float)):
+        raise ValueError(f"its period {period!r:.40} is not a number")
+    path = folder / "result.npz"
+    time = time_samples(path, read_npz(path, "walk3d result").get("time", np.zeros(0)))
+    if time[0] != 0 or not abs(time[-1] - period) <= 1e-9 * period:
+        raise ValueError(f"its result.npz is not its summary's: the arrays' cycle runs "
+                         f"{time[0]:g} to {time[-1]:.6g} s, the summary's period is "
+                         f"{period:.6g} s")  # fmt: skip
+
+
 def stored(
     out: Path, settings: PredictionSettings, speeds: np.ndarray, usable: Callable[[dict], object]
 ) -> dict[int, dict]:
@@ -133,6 +156,8 @@ def stored(
             usable(summary)
             [float(x) for x in summary["coefficients"]["x"]]  # a warm start's coefficients
             why = difference(summary, settings, v)
+            if why is None:  # another problem's prediction is refused, not solved over
+                check_arrays(folder, summary)
         except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
             warnings.warn(f"{folder} cannot be read ({' '.join(str(exc).split())}): solving "
                           f"{v:g} m/s again", RuntimeWarning, stacklevel=2)  # fmt: skip

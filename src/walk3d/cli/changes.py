@@ -19,9 +19,9 @@ REPEAT = " Repeated options add up; a name given twice must have one value."
 Strength = Annotated[
     list[str] | None,
     typer.Option("--strength", metavar="JOINT=FACTOR[,...]", rich_help_panel=CHANGES,
-                 help="Scale a joint's strengths (both directions), e.g. ankle=0.5 (both sides) or "
-                 "ankle_r=0.5 (one side: the full cycle is solved): C_tor and the effort terms "
-                 "then cost more per N·m." + REPEAT),
+                 help="Scale a joint's strengths (both directions) by 0.01 to 10, e.g. ankle=0.5 "
+                 "(both sides) or ankle_r=0.5 (one side: the full cycle is solved): C_tor and the "
+                 "effort terms then cost more per N·m." + REPEAT),
 ]  # fmt: skip
 Range = Annotated[
     list[str] | None,
@@ -81,12 +81,13 @@ def _items(specs: Specs, option: str) -> list[tuple[str, str]]:
 
 
 def _number(text: str, option: str, name: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        v = math.nan
+    """``text`` as a number, or one error line and exit 2 for one that is not finite or not
+    plainly decimal (``1_0``, which ``float()`` reads as 10)."""
+    from walk3d.io.checks import decimal
+
+    v = decimal(text)
     if not math.isfinite(v):
-        fail(f"{option}: {name}={text!r} is not a finite number")
+        fail(f"{option}: {name}={text!r} is not a finite decimal number (like 0.5)")
     return v
 
 

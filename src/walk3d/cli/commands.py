@@ -198,9 +198,11 @@ def predict(
     compile_later: CompileLater = True,
 ) -> None:
     """Predict one gait cycle and write DIR/summary.json, result.npz, motion.mot, grf.mot,
-    summary.png (and animation.mp4 with --animate) and, last, report.html. Exit code 0 if the
-    solve converged, 1 if not (results are still written and labelled), 2 for bad input, 3 if
-    the folder could not be written (nothing is left), 130 on Ctrl-C. An earlier result in DIR
+    summary.png (and animation.mp4 with --animate) and, last, report.html. Exit codes: 0 the
+    solve converged; 1 it did not (results are still written and labelled); 2 bad input,
+    before any solve; 3 the folder could not be written (nothing is left); 4 it converged on a
+    gait that does not look like walking (written and labelled); 130 Ctrl-C; 143 SIGTERM
+    (nothing is written; docs/usage.md, Exit codes). An earlier result in DIR
     is replaced; a DIR that also holds files walk3d did not write is refused. T and Td are
     predicted with the gait unless given (--period, --double-support, --paper). With
     --from-trial IK.mot --grf GRF.mot, V, T and Td come from the trial unless --speed,

@@ -9,7 +9,10 @@ and criterion (any mass and stature: :mod:`walk3d.problem.similarity`), finds th
 
 from __future__ import annotations
 
-from contextlib import ExitStack
+import logging
+import sys
+from collections.abc import Iterator
+from contextlib import ExitStack, contextmanager
 
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
@@ -34,13 +37,48 @@ def compile_with_progress(settings: PredictionSettings, console: Console) -> Non
     missing or failing compiler ends the command with one line and exit code 2, a cache folder
     that cannot be written (a full disk, a lock that is a folder) with one line and exit code
     3. Holds the background compile's lock (:mod:`walk3d.cli.background`), waiting for a
-    running one, and first removes the build folders of ended compiles."""
-    from walk3d.cli import background
-
+    running one, and first removes the build folders of ended compiles. The solver's log
+    warnings are printed after a compile that ends, once each, and not after one that fails."""
     try:
         compiled.require_compiler()  # before any model work
     except compiled.CompileError as exc:
         fail(f"walk3d compile: {exc}")
+    with _held_warnings() as held:
+        info = _compile_held(settings, console)
+    for line in dict.fromkeys(held):
+        sys.stderr.write(f"walk3d: warning: {line}\n")
+    console.print(
+        "walk3d compile: already compiled (model cache)" if info is None else
+        f"walk3d compile: {info['compiled']} libraries in {info['wall_time_s']:.0f} s, "
+        f"kept in {compiled.cache_dir()}"
+    )  # fmt: skip
+
+
+@contextmanager
+def _held_warnings() -> Iterator[list[str]]:
+    """The solver modules' log warnings of the block (a model cache entry that could not be
+    written...), held instead of printed: a compile that fails prints its one error line alone
+    (on a full disk each entry's write warns first), one that ends prints each once."""
+    held: list[str] = []
+
+    class Hold(logging.Handler):
+        def emit(self, record: logging.LogRecord) -> None:
+            held.append(" ".join(record.getMessage().split()))
+
+    logger, handler = logging.getLogger("walk3d.solve"), Hold(logging.WARNING)
+    propagate, logger.propagate = logger.propagate, False
+    logger.addHandler(handler)
+    try:
+        yield held
+    finally:
+        logger.removeHandler(handler)
+        logger.propagate = propagate
+
+
+def _compile_held(settings: PredictionSettings, console: Console) -> dict | None:
+    """The compile under the background compile's lock (:func:`compile_with_progress`)."""
+    from walk3d.cli import background
+
     lock = background.lock_path()
     try:
         with ExitStack() as stack:
@@ -60,11 +98,7 @@ def compile_with_progress(settings: PredictionSettings, console: Console) -> Non
         where = exc.filename or compiled.cache_dir()
         why = (exc.strerror or str(exc)).lower()
         fail(f"walk3d compile: could not write {where}: {why}", code=EXIT_WRITE)
-    console.print(
-        "walk3d compile: already compiled (model cache)" if info is None else
-        f"walk3d compile: {info['compiled']} libraries in {info['wall_time_s']:.0f} s, "
-        f"kept in {compiled.cache_dir()}"
-    )  # fmt: skip
+    return info
 
 
 def _compile(settings: PredictionSettings, console: Console) -> dict | None:

@@ -53,8 +53,9 @@ def sweep(
     """Predict one gait cycle at each speed with T and Td predicted, each started from its
     solved neighbour, and write DIR/sweep.csv (T, Td, stride length, cadence, criterion, gait
     checks), DIR/sweep.png (against published adult relations) and one predict folder per speed
-    in DIR/speeds/. Rerunning the same command resumes: a speed folder that cannot be read is
-    solved again, one holding another speed's or problem's prediction is refused. Exit code 0
+    in DIR/speeds/. Rerunning the same command resumes: a speed folder that cannot be read or
+    whose arrays are not its summary's is solved again, one holding another speed's or
+    problem's prediction is refused. Exit code 0
     if every speed converged and walks, 1 if not, 2 for bad input, 3 if the folder could not
     be written, 130 on Ctrl-C (finished speeds are kept)."""
     from walk3d.campaign.sweep import SweepMismatch, parse_speeds, run_sweep

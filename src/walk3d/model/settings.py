@@ -13,8 +13,9 @@ import importlib
 import math
 from dataclasses import dataclass
 from functools import cache
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, get_args
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, field_validator, model_validator
 
 from walk3d.contact.free_split import MAX_TERMS
@@ -48,16 +49,43 @@ class Role:
         return self.off is not _ALWAYS
 
 
+@cache
+def _numeric(annotation: Any) -> bool:
+    """Whether a field's type holds numbers (int or float, also inside tuples)."""
+    return annotation in (int, float) or any(_numeric(a) for a in get_args(annotation))
+
+
+def _leaves(v: Any) -> list[Any]:
+    """``v``'s values, through nested tuples and lists (a loop: any depth)."""
+    out, todo = [], [v]
+    while todo:
+        x = todo.pop()
+        if isinstance(x, (tuple, list)):
+            todo.extend(x)
+        else:
+            out.append(x)
+    return out
+
+
 class SettingsGroup(BaseModel):
-    """A frozen settings group: unknown fields refused, floats finite."""
+    """A frozen settings group: unknown fields refused, numbers finite and not bools."""
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     @field_validator("*", mode="before")
     @classmethod
     def _finite(cls, v, info):
-        if isinstance(v, float) and not math.isfinite(v):
-            raise ValueError(f"{info.field_name} must be a finite number, got {v}")
+        """Refuse, before pydantic converts, a non-finite float anywhere in a value and a bool
+        in a numeric setting (pydantic reads ``True`` as 1.0)."""
+        name = info.field_name
+        many = isinstance(v, (tuple, list))
+        for x in _leaves(v):
+            if isinstance(x, float | np.floating) and not math.isfinite(x):
+                what = "hold finite numbers" if many else "be a finite number"
+                raise ValueError(f"{name} must {what}, got {v!r:.60}")
+            if isinstance(x, bool | np.bool_) and _numeric(cls.model_fields[name].annotation):
+                what = "hold numbers" if many else "be a number"
+                raise ValueError(f"{name} must {what}, not a bool: {v!r:.60}")
         return v
 
     def _check(self, checks: list[tuple[bool, str]]) -> None:

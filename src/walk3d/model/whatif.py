@@ -8,6 +8,7 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, field_validator, model_validator
 
 from walk3d import mathops as mo
@@ -24,6 +25,14 @@ def _pairs(v: Any) -> Any:
         return tuple((k, *val) if isinstance(val, (tuple, list)) else (k, val)
                      for k, val in v.items())  # fmt: skip
     return v
+
+
+_VALUES = {"strength": (1, "a factor", "(joint, factor)"),
+           "added_mass": (1, "a mass in kg", "(segment, kg)"),
+           "limits": (2, "(low, high) in rad", "(dof, low, high)"),
+           "shank_length": (1, "a length change in m", "(shank, m)")}  # fmt: skip
+"""How many values each item of a :class:`Changes` field holds after its name, what they are
+and the item's form (for messages)."""
 
 
 class Changes(BaseModel):
@@ -44,12 +53,21 @@ class Changes(BaseModel):
 
     @field_validator("strength", "added_mass", "limits", "shank_length", mode="before")
     @classmethod
-    def _items(cls, v: Any) -> Any:
+    def _items(cls, v: Any, info: Any) -> Any:
+        """Refuse, in one line, an item that is not a name and its values (pydantic's own
+        message counts tuple items) or holds a bool, which pydantic would read as 1.0."""
         v = _pairs(v)
+        field = info.field_name
+        count, what, form = _VALUES[field]
         for item in v if isinstance(v, (tuple, list)) else ():
-            values = item[1:] if isinstance(item, (tuple, list)) else ()
-            if any(isinstance(x, bool) for x in values):  # before pydantic reads True as 1.0
-                raise ValueError(f"a change of {item[0]!r} must be a number, not {values!r}")
+            if not (isinstance(item, (tuple, list)) and item and isinstance(item[0], str)):
+                raise ValueError(f"each {field} item is {form}, got {item!r:.60}")
+            values = tuple(item[1:])
+            if len(values) != count:
+                raise ValueError(f"{field} of {item[0]} must be {what}, got {values!r:.60}")
+            if any(isinstance(x, (bool, np.bool_)) for x in values):
+                raise ValueError(f"{field} of {item[0]} must be {what}, not a bool: "
+                                 f"{values!r:.60}")  # fmt: skip
         return v
 
     @model_validator(mode="after")

@@ -45,7 +45,7 @@ import casadi as ca
 from walk3d.io import processes
 from walk3d.io.atomic import atomic_write_text
 from walk3d.solve import compiler_group
-from walk3d.solve.model_cache import cache_dir
+from walk3d.solve.model_cache import cache_dir, read_regular
 
 __all__ = ["BUILD_PREFIX", "CompileError", "build_folders", "build_library", "compile_functions",
            "compiler", "flags", "leftover_builds", "load_functions", "remove_leftover_builds",
@@ -142,7 +142,7 @@ def verified(path: Path) -> str | None:
     when it was built (:func:`build_library`). A truncated or altered library could take the
     process down in the dynamic loader, so it counts as missing and is built again."""
     try:
-        expected = digest_path(path).read_text(encoding="ascii").strip()
+        expected = read_regular(digest_path(path), limit=256).decode("ascii").strip()
     except FileNotFoundError:
         return "it has no digest (an unfinished build, or one of an earlier walk3d)"
     except (OSError, UnicodeDecodeError) as exc:

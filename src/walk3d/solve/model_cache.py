@@ -31,9 +31,11 @@ about 50 MB), and deleting them is always safe: ``walk3d cache --clear``
 from __future__ import annotations
 
 import dataclasses
+import errno
 import hashlib
 import logging
 import os
+import stat
 import sys
 import threading
 from collections.abc import Callable, Iterator, Mapping
@@ -47,7 +49,8 @@ from walk3d import constants
 from walk3d.io.atomic import atomic_write_text
 
 __all__ = ["SCHEMA", "LazyFunctions", "cache_dir", "cache_enabled", "cache_entries", "cache_usage",
-           "clear_entries", "model_key", "read_functions", "write_functions"]  # fmt: skip
+           "clear_entries", "model_key", "read_functions", "read_regular",
+           "write_functions"]  # fmt: skip
 
 SCHEMA = 2
 """Raise when the entry format or the set of cached functions changes (2: one entry per
@@ -134,6 +137,20 @@ def model_key(model_settings: object, body: object) -> str:
     return h.hexdigest()[:32]
 
 
+def read_regular(path: Path, limit: int | None = None) -> bytes:
+    """The bytes of ``path``, at most ``limit`` of them; OSError unless it is a regular file:
+    the cache is a folder anyone may put things in, and a FIFO there blocked the read for ever
+    (opened without blocking, it is refused before any read)."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise OSError(errno.EINVAL, "not a regular file", str(path))
+        with os.fdopen(os.dup(fd), "rb") as f:
+            return f.read() if limit is None else f.read(limit)
+    finally:
+        os.close(fd)
+
+
 def _entry(key: str) -> Path:
     return cache_dir() / f"model-{key}.casadi"
 
@@ -142,7 +159,7 @@ def read_functions(key: str) -> dict[str, ca.Function] | None:
     """The functions stored under ``key``, or None if there is no entry or it is unreadable."""
     path = _entry(key)
     try:
-        text = path.read_text(encoding="ascii")
+        text = read_regular(path).decode("ascii")
     except FileNotFoundError:
         return None
     except (OSError, ValueError) as exc:
