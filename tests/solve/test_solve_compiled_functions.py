@@ -1,6 +1,7 @@
 """Compiled C functions in the cache folder: compiled once, loaded with equal values, a
 damaged library counted as missing, a missing compiler reported as such."""
 
+import hashlib
 from pathlib import Path
 
 import casadi as ca
@@ -50,10 +51,11 @@ def test_damaged_library_is_missing(cache):
     assert compiled.load_functions("k2", ["t_poly"]) is None
 
 
-@pytest.mark.parametrize("damage", ["truncate", "alter", "no digest"])
+@pytest.mark.parametrize("damage", ["truncate", "alter", "no digest", "cut, then digested"])
 def test_a_library_that_does_not_match_its_digest_is_never_loaded(cache, damage, monkeypatch):
     """A truncated or altered library could crash the dynamic loader, so it is checked against
-    the digest written when it was built, counts as missing and is built again."""
+    the digest written when it was built, counts as missing and is built again. A library cut
+    short before its digest was written (a matching digest) fails the ELF check."""
     compiled.compile_functions("k3", {"t_poly": _functions()["t_poly"]})
     lib = cache / "lib-k3-t_poly.so"
     assert compiled.load_functions("k3", ["t_poly"]) is not None  # control: as built, it loads
@@ -62,6 +64,10 @@ def test_a_library_that_does_not_match_its_digest_is_never_loaded(cache, damage,
         lib.write_bytes(data[: len(data) // 2])
     elif damage == "alter":
         lib.write_bytes(data[:-64] + bytes(64))
+    elif damage == "cut, then digested":
+        lib.write_bytes(data[: len(data) // 2])
+        compiled.digest_path(lib).write_text(hashlib.sha256(lib.read_bytes()).hexdigest() + "\n")
+        assert "cut short" in compiled.verified(lib)
     else:
         compiled.digest_path(lib).unlink()
     loaded = []

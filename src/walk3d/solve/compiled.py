@@ -44,6 +44,7 @@ import casadi as ca
 
 from walk3d.io import processes
 from walk3d.io.atomic import atomic_write_text
+from walk3d.io.elf import elf_problem
 from walk3d.solve import compiler_group
 from walk3d.solve.model_cache import cache_dir, read_regular
 
@@ -139,8 +140,9 @@ def _sha256(path: Path) -> str:
 
 def verified(path: Path) -> str | None:
     """Why the library ``path`` must not be loaded, or None: it must match the digest written
-    when it was built (:func:`build_library`). A truncated or altered library could take the
-    process down in the dynamic loader, so it counts as missing and is built again."""
+    when it was built (:func:`build_library`), and be a whole ELF file
+    (:func:`walk3d.io.elf.elf_problem`). A truncated or altered library could take the process
+    down in the dynamic loader, so it counts as missing and is built again."""
     try:
         expected = read_regular(digest_path(path), limit=256).decode("ascii").strip()
     except FileNotFoundError:
@@ -148,9 +150,12 @@ def verified(path: Path) -> str | None:
     except (OSError, UnicodeDecodeError) as exc:
         return f"its digest cannot be read ({exc})"
     try:
-        return None if _sha256(path) == expected else "it does not match its digest (damaged)"
+        if _sha256(path) != expected:
+            return "it does not match its digest (damaged)"
     except OSError as exc:
         return f"it cannot be read ({exc})"
+    whole = elf_problem(path)  # cut short before its digest was written
+    return None if whole is None else f"it is {whole}"
 
 
 def load_functions(key: str, names: list[str]) -> dict[str, ca.Function] | None:
