@@ -2,6 +2,7 @@
 instead of being swallowed by CasADi as a failed stage."""
 
 import signal
+import sys
 
 import numpy as np
 import pytest
@@ -11,6 +12,7 @@ from walk3d.solve.progress import (
     IterationReporter,
     interruptible,
     raise_if_interrupted,
+    raises_safely,
 )
 
 
@@ -24,17 +26,32 @@ def python_sigint():
     signal.signal(signal.SIGINT, previous)
 
 
-def test_sigint_inside_the_block_sets_the_flag_and_raises_after_it(python_sigint):
+def test_sigint_in_walk3d_code_raises_at_once_and_in_a_callback_only_flags(python_sigint):
+    """Ctrl-C in walk3d's own code inside the block raises at once; inside a CasADi callback
+    (IPOPT's iteration reporter, where CasADi would swallow it) it only sets the flag, IPOPT is
+    asked to stop, and the block raises as it ends. Outside the block (the control) Ctrl-C is
+    Python's own."""
     # raise_signal delivers to this (the main) thread at once; os.kill(getpid()) may reach
     # another thread of the process (BLAS, Dask, plots), and the handler then runs later
-    with interruptible():
-        signal.raise_signal(signal.SIGINT)  # no KeyboardInterrupt here
-        assert INTERRUPT.requested
     with pytest.raises(KeyboardInterrupt):
-        raise_if_interrupted()
-    assert not INTERRUPT.requested
+        with interruptible():
+            signal.raise_signal(signal.SIGINT)
+            pytest.fail("not raised at once")
+    rep = IterationReporter("rep_flag_test", 2, 1)
+    args = [np.zeros(2), 0.0, np.zeros(1), np.zeros(2), np.zeros(1), np.zeros(0)]
+    seen = []
+
+    def listener(*_a):
+        seen.append(raises_safely(sys._getframe()))
+        signal.raise_signal(signal.SIGINT)  # no KeyboardInterrupt here
+
+    with pytest.raises(KeyboardInterrupt):
+        with interruptible():
+            with rep.listening(listener, np.zeros(1), np.zeros(1)):
+                assert int(rep.eval(args)[0]) == 1  # IPOPT is asked to stop
+            assert INTERRUPT.requested and seen == [False]
+    assert not INTERRUPT.requested and raises_safely(sys._getframe())
     raise_if_interrupted()  # nothing pending: no error
-    # outside the block Ctrl-C is Python's own again
     with pytest.raises(KeyboardInterrupt):
         signal.raise_signal(signal.SIGINT)
 

@@ -11,11 +11,13 @@ shared options in :mod:`walk3d.cli.common`.
 
 from __future__ import annotations
 
+import _thread
 import functools
 import os
 import signal
 import sys
 import threading
+import time
 
 import typer
 
@@ -83,6 +85,10 @@ def _on_sigterm(_signum, _frame) -> None:
     raise KeyboardInterrupt
 
 
+RESEND_AFTER_S = 0.02
+"""s: a swallowed signal is sent again once the hook that saw it has long returned."""
+
+
 def _on_unraisable(unraisable, previous=sys.__unraisablehook__) -> None:
     """A Ctrl-C or SIGTERM that Python swallowed because it came inside a finalizer or a weakref
     callback ("Exception ignored in ..."): the signal is sent again from a thread, so that the
@@ -95,7 +101,16 @@ def _on_unraisable(unraisable, previous=sys.__unraisablehook__) -> None:
     progress = _progress_module()
     term = bool(_TERMINATED) or (progress is not None and isinstance(exc, progress.Terminated))
     sig = signal.SIGTERM if term else signal.SIGINT
-    threading.Thread(target=os.kill, args=(os.getpid(), sig), daemon=True).start()
+    try:  # a thread that does not make this hook wait, and signals once it has returned
+        _thread.start_new_thread(_send_later, (sig,))
+    except BaseException:  # noqa: BLE001 - a hook must not raise; the signal comes again
+        _send_later(sig, 0.0)
+
+
+def _send_later(sig: int, after_s: float = RESEND_AFTER_S) -> None:
+    """Send ``sig`` to this process after ``after_s`` s."""
+    time.sleep(after_s)
+    os.kill(os.getpid(), sig)
 
 
 def _from_interrupt(exc: BaseException) -> bool:

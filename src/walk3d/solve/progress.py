@@ -10,9 +10,11 @@ ends a stage.
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
 import threading
 from collections.abc import Callable, Iterator
+from types import FrameType
 
 import casadi as ca
 import numpy as np
@@ -35,35 +37,64 @@ class _Interrupt:
     requested = False
     terminated = False
     """Whether a SIGTERM came (it stays set: the process is ending)."""
+    depth = 0
+    """How many :func:`interruptible` blocks are open."""
 
 
 INTERRUPT = _Interrupt()
 
 
+_CASADI = os.path.dirname(ca.__file__) + os.sep
+
+
+def raises_safely(frame: FrameType | None) -> bool:
+    """Whether an exception raised in ``frame`` propagates to walk3d: not inside a call that
+    CasADi made (its bindings' argument conversion, a callback such as IPOPT's iteration
+    reporter), where it would be swallowed."""
+    innermost = True
+    while frame is not None:
+        if isinstance(frame.f_locals.get("self"), ca.Callback):
+            return False
+        if not innermost and frame.f_code.co_filename.startswith(_CASADI):
+            return False
+        innermost, frame = False, frame.f_back
+    return True
+
+
 @contextlib.contextmanager
 def interruptible() -> Iterator[None]:
-    """Inside this block (a solve), SIGINT (Ctrl-C) and SIGTERM only set a flag: IPOPT stops at
-    its next iteration, and the caller raises KeyboardInterrupt at its next check
-    (:func:`raise_if_interrupted`: after the model build, after each stage). Raised inside
-    CasADi instead, it is swallowed: as a failed stage (``NonIpopt_Exception_Thrown``) in IPOPT's
-    callback, or silently by the argument conversion of CasADi's Python bindings while the
-    model builds. Outside it, in threads other than the main one, and where
-    SIGINT is ignored, Ctrl-C behaves as usual."""
+    """Inside this block (a solve), SIGINT (Ctrl-C) and SIGTERM set a flag, and raise
+    KeyboardInterrupt (:class:`Terminated`) at once where that is safe
+    (:func:`raises_safely`). Raised inside CasADi it would be swallowed: as a failed stage
+    (``NonIpopt_Exception_Thrown``) in IPOPT's callback, or silently by the argument conversion
+    of CasADi's Python bindings while the model builds. There the flag alone stops IPOPT at its
+    next iteration, and :func:`raise_if_interrupted` raises after the stage; the outermost
+    block raises on leaving if nothing did. Outside it, in threads other than the main one, and
+    where SIGINT is ignored, Ctrl-C behaves as usual."""
     main = threading.current_thread() is threading.main_thread()
     if not main or signal.getsignal(signal.SIGINT) == signal.SIG_IGN:  # e.g. a background job
         yield
         return
 
-    def handler(signum, _frame) -> None:
+    def handler(signum, frame) -> None:
         INTERRUPT.requested = True
         INTERRUPT.terminated |= signum == signal.SIGTERM
+        if raises_safely(frame):  # the flag stays: if this is swallowed anyway, a check raises
+            raise Terminated if INTERRUPT.terminated else KeyboardInterrupt
 
+    outermost = INTERRUPT.depth == 0
+    if outermost:  # a new solve: no interrupt of an earlier one is pending
+        INTERRUPT.requested = False
     previous = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    INTERRUPT.depth += 1
     try:
         yield
     finally:
+        INTERRUPT.depth -= 1
         for s, h in previous.items():
             signal.signal(s, h)
+    if outermost:
+        raise_if_interrupted()
 
 
 def raise_if_interrupted() -> None:
