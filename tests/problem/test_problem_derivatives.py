@@ -5,7 +5,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from walk3d.problem import derivatives, nlp
+from walk3d.problem import derivatives, layout, nlp
 from walk3d.problem.bounds import bounded_rows, bounds
 from walk3d.problem.schedule import schedule
 from walk3d.problem.settings import PredictionSettings, body_for
@@ -123,7 +123,7 @@ def test_column_blocks_equal_the_node_derivatives(dynamics, criterion):
     jac_b = derivatives.assemble(blocks["jac"], "jac_b")
     hess_b = derivatives.assemble(blocks["hess"], "hess_b")
     rng = np.random.default_rng(5)
-    v = rng.uniform(-0.1, 0.1, derivatives.N_V)
+    v = rng.uniform(-0.1, 0.1, layout.N_V)
     p = np.array([30.0, -0.7, 5.8, 0.6, -0.3, 0.2])
     lam = rng.normal(size=node.size_out(0)[0])
     h_ref = _dense(hess(v, p, 0.7, lam))
@@ -133,7 +133,7 @@ def test_column_blocks_equal_the_node_derivatives(dynamics, criterion):
     np.testing.assert_allclose(_dense(jac_b(v, p)), _dense(jac(v, p)), rtol=0, atol=1e-12)
 
     # the mapped Hessian block by block (map_blocks) is assemble(...).map(...) bit for bit
-    vs = rng.uniform(-0.1, 0.1, (derivatives.N_V, 3))
+    vs = rng.uniform(-0.1, 0.1, (layout.N_V, 3))
     ps, lams = np.tile(p[:, None], (1, 3)), rng.normal(size=(lam.size, 3))
     sfs = np.array([[0.7, 0.2, 1.0]])
     np.testing.assert_array_equal(
