@@ -76,3 +76,16 @@ def end(proc, pids) -> None:
         with contextlib.suppress(ProcessLookupError):
             os.kill(pid, signal.SIGKILL)
     proc.wait()
+
+
+def alive_after_kill_9(tmp_path, script: str) -> int:
+    """How many of an unguarded fake compile's processes still run 1 s after ``kill -9`` of
+    the compiling process (the negative controls of the guards: all 4)."""
+    proc, pids = fake_compile(tmp_path, script, "unguarded")
+    try:
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=30)
+        time.sleep(1.0)
+        return len(alive(pids))
+    finally:
+        end(proc, pids)

@@ -8,7 +8,7 @@ import sys
 import time
 
 import pytest
-from compiler_support import alive, end, fake_compile, wait_gone
+from compiler_support import alive_after_kill_9, end, fake_compile, wait_gone
 
 from walk3d import api
 from walk3d.cli import background
@@ -180,7 +180,11 @@ def test_the_compilers_die_with_the_background_process(tmp_path, monkeypatch, ho
     finally:
         end(proc, pids)
     if how != "kill-9-group":  # the guard, in the group, is killed with it
-        lines = background.paths("0123456789abcdef")["failed"].read_text().splitlines()
+        marker = background.paths("0123456789abcdef")["failed"]
+        deadline = time.monotonic() + 10.0  # the guard writes it as the compilers' guard ends them
+        while not marker.exists() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        lines = marker.read_text().splitlines()
         assert len(lines) == 1 and lines[0].startswith("Killed:"), lines  # no background retry
     assert "Traceback" not in (tmp_path / "log").read_text()
 
@@ -190,14 +194,7 @@ def test_compilers_of_a_compile_outside_the_background_process_outlive_a_kill(tm
     """Negative control: the same compile killed without the background process around it, and
     without the compilers' own guard (walk3d.solve.compiler_group), leaves its compilers
     running, as the background process did, so the check above can fail."""
-    proc, pids = fake_compile(tmp_path, FAKE_COMPILE, "unguarded")
-    try:
-        os.kill(proc.pid, signal.SIGKILL)
-        proc.wait(timeout=30)
-        time.sleep(1.0)
-        assert len(alive(pids)) == 4
-    finally:
-        end(proc, pids)
+    assert alive_after_kill_9(tmp_path, FAKE_COMPILE) == 4
 
 
 def test_a_compile_lock_that_is_a_folder_is_a_one_line_failure_marker(tmp_path, spawned):

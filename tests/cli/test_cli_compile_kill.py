@@ -9,7 +9,7 @@ import subprocess
 import time
 
 import pytest
-from compiler_support import alive, end, fake_compile, wait_gone
+from compiler_support import alive, alive_after_kill_9, end, fake_compile, wait_gone
 
 from walk3d.solve import compiler_group
 
@@ -59,14 +59,7 @@ def test_kill_9_of_walk3d_compile_ends_its_compilers(tmp_path):
 
 def test_compilers_of_an_unguarded_compile_outlive_a_kill_9(tmp_path):
     """Negative control: without the guard the compilers run on, so the check above can fail."""
-    proc, pids = fake_compile(tmp_path, FOREGROUND, "unguarded")
-    try:
-        os.kill(proc.pid, signal.SIGKILL)
-        proc.wait(timeout=30)
-        time.sleep(1.0)
-        assert len(alive(pids)) == 4
-    finally:
-        end(proc, pids)
+    assert alive_after_kill_9(tmp_path, FOREGROUND) == 4
 
 
 ENDS = [(signal.SIGINT, 130, "walk3d: interrupted"), (signal.SIGTERM, 143, "walk3d: terminated")]
