@@ -90,3 +90,29 @@ def test_the_identity_changes_when_a_folder_is_renamed_into_place(tmp_path):
     os.rename(a, tmp_path / "old")
     os.rename(b, a)
     assert finished.identity(a) != before and finished.identity(tmp_path / "none") is None
+
+
+_AT_EXIT = """
+import atexit, signal, sys
+sys.argv = ["walk3d", "body"]
+from walk3d.cli import main
+atexit.register(lambda: print("ignored at exit:",
+                              signal.getsignal(signal.SIGTERM) == signal.SIG_IGN))
+main({argv})
+"""
+
+
+def test_the_command_ignores_a_signal_once_its_outcome_is_decided():
+    """Python's exit restores the default action of a handled signal, and a SIGTERM in the last
+    moments then killed the command with its result complete and no line: the command (no
+    ``argv``) ignores both signals as it exits; an in-process call (the control) gets its own
+    handler back."""
+    import subprocess
+
+    def run(argv: str) -> str:
+        r = subprocess.run([sys.executable, "-c", _AT_EXIT.format(argv=argv)],
+                           capture_output=True, text=True, timeout=60)  # fmt: skip
+        return r.stdout.strip().splitlines()[-1]
+
+    assert run("") == "ignored at exit: True"
+    assert run('["body"]') == "ignored at exit: False"

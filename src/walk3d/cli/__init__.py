@@ -194,6 +194,8 @@ def main(argv: list[str] | None = None) -> None:
         code = EXIT_WRITE
     finally:
         sys.stdout, sys.stderr, sys.unraisablehook = stream, errors, unraisable
-        for sig, handler in previous.items():  # an in-process caller gets its own back
-            signal.signal(sig, handler)
+        for sig, handler in previous.items():  # an in-process caller gets its own back; the
+            # command ignores a signal once its outcome is decided: Python's exit would restore
+            # the default action, which kills it with its result complete and no line
+            signal.signal(sig, handler if argv is not None else signal.SIG_IGN)
     sys.exit(code)
