@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MAX_TERMS", "MIRROR", "subject_split", "trailing_load"]
+__all__ = ["MAX_TERMS", "MIRROR", "coefficient_count", "subject_split", "trailing_load"]
 
 MAX_TERMS = 4
 """Largest ``K``: the split's shape over a double support of 10–30 % of the cycle needs few
@@ -28,6 +28,11 @@ terms (K = 2 and 3 gave the same gait, docs/criteria.md)."""
 MIRROR = (1.0, 1.0, -1.0, -1.0, -1.0, 1.0)
 """Signs that carry a right-root half cycle's wrench to the left-root one: the lateral force
 and the frontal and transverse moments flip (the mirror of the gait)."""
+
+
+def coefficient_count(terms: int) -> int:
+    """The NLP unknowns of ``terms`` free terms: one 6-vector (a wrench) each."""
+    return 6 * terms
 
 
 def trailing_load(w0: Sequence[Any], decay: Any, h: Any, coefficients: Sequence[Any]) -> list:

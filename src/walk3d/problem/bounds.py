@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from walk3d.body.model import BodyModel
+from walk3d.contact import free_split
 from walk3d.model import whatif
 from walk3d.model.ranges import joint_ranges
 from walk3d.problem import descriptors, layout
@@ -89,9 +90,9 @@ def bounds(
     t_lo, t_hi = (-np.inf, np.inf) if slack else (0.0, 0.0)
     weighted_node = np.repeat(~sch.checks, N_T)  # a contact check's slacks are unused: 0
     t_lo, t_hi = np.where(weighted_node, t_lo, 0.0), np.where(weighted_node, t_hi, 0.0)
-    n_w0 = layout.N_W0 + 6 * settings.model.split_terms
-    lbz = np.concatenate([lbx, ylo.ravel(), np.full(n_w0, -np.inf), t_lo])
-    ubz = np.concatenate([ubx, yhi.ravel(), np.full(n_w0, np.inf), t_hi])
+    n_split = free_split.coefficient_count(settings.model.split_terms)
+    lbz = np.concatenate([lbx, ylo.ravel(), np.full(layout.N_W0 + n_split, -np.inf), t_lo])
+    ubz = np.concatenate([ubx, yhi.ravel(), np.full(layout.N_W0 + n_split, np.inf), t_hi])
 
     glo = np.full((n_nodes, N_G), -np.inf)
     ghi = np.full((n_nodes, N_G), np.inf)
@@ -139,6 +140,6 @@ def bounds(
                                                  pinned=not free)  # fmt: skip
         lbz, ubz = np.concatenate([lbz, slo]), np.concatenate([ubz, shi])
         lbg, ubg = np.concatenate([lbg, np.zeros(n_s)]), np.concatenate([ubg, np.full(n_s, np.inf)])
-    lay = layout.NlpLayout(n_nodes, rlo.size, n_loop, n_s, n_w0 - layout.N_W0)
+    lay = layout.NlpLayout(n_nodes, rlo.size, n_loop, n_s, n_split)
     assert (lbz.size, lbg.size) == (lay.n_z, lay.n_g), "bounds out of the layout's blocks"
     return Bounds(lbz, ubz, lbg, ubg)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import casadi as ca
 
 from walk3d.body.model import BodyModel
+from walk3d.contact import free_split
 from walk3d.problem import coupling, descriptors, layout, nlp
 from walk3d.problem.derivatives import NlpPieces, NodeDerivs, derivative_functions
 from walk3d.problem.schedule import lifting_maps, range_rows, schedule
@@ -71,9 +72,8 @@ def build_free_nlp(
             couple=coupling.node_coupling(nc.node, crit),
             xs=coupling.coefficient_coupling(lift_fn, jerk), threads=threads,
         )  # fmt: skip
-        lay = layout.NlpLayout(
-            n, range_np.shape[0], 0, descriptors.N_S, 6 * settings.model.split_terms
-        )
+        n_split = free_split.coefficient_count(settings.model.split_terms)
+        lay = layout.NlpLayout(n, range_np.shape[0], 0, descriptors.N_S, n_split)
         pieces = NlpPieces(z=z, f=f, g=g, node0=nc.node0, node=nc.node, params=params, lift=lift,
                            range_mat=range_np, hs_rows=nlp.G_ROWS["hs_wrench"],
                            hs_map=nc.hs_map, weight=weights, crit=crit, layout=lay,

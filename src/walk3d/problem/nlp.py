@@ -158,7 +158,7 @@ def node_function(
     the node model's (:func:`walk3d.model.node.node_model`: passive joints and other elements).
     """
     y = ca.SX.sym("y", N_Y)
-    w0 = ca.SX.sym("w0", layout.N_W0 + 6 * model.split_terms)
+    w0 = ca.SX.sym("w0", layout.N_W0 + free_split.coefficient_count(model.split_terms))
     hw = ca.SX.sym("hw")
     p = ca.SX.sym("p", N_P)
     t = ca.SX.sym("t", N_T)
@@ -305,7 +305,8 @@ def node_calls(
     node0 = node_fn(True) if per_foot_loads(settings.model, dynamics, balance) else node
     x = ca.MX.sym("x", layout.N_X)
     ys = ca.MX.sym("Y", N_Y, n)
-    w0 = ca.MX.sym("W0", layout.N_W0 + 6 * settings.model.split_terms)
+    n_split = free_split.coefficient_count(settings.model.split_terms)
+    w0 = ca.MX.sym("W0", layout.N_W0 + n_split)
     ts = ca.MX.sym("T", N_T, n)
     hw = x[layout.I_HALF_STEP]
     g0, f0 = node0(ys[:, 0], w0, hw, params[:, 0], ts[:, 0])
@@ -376,9 +377,8 @@ def build_nlp(
                    g_loop)  # fmt: skip
     prob = {"x": z, "f": f, "g": g} | ({"p": a} if shift else {})
     if settings.solver.derivatives == "structured":
-        lay = layout.NlpLayout(
-            sch.n, range_np.shape[0], g_loop.numel(), n_split=6 * settings.model.split_terms
-        )
+        n_split = free_split.coefficient_count(settings.model.split_terms)
+        lay = layout.NlpLayout(sch.n, range_np.shape[0], g_loop.numel(), n_split=n_split)
         pieces = NlpPieces(z=z, f=f, g=g, node0=nc.node0, node=nc.node, p=a,
                            params=params if shift else np.asarray(params), lift=lift,
                            range_mat=range_np, hs_rows=G_ROWS["hs_wrench"],

@@ -10,6 +10,7 @@ import numpy as np
 
 from walk3d.body.changes import limited_dofs
 from walk3d.body.model import BodyModel
+from walk3d.contact import free_split
 from walk3d.contact.phases import GaitPhases
 from walk3d.model.ranges import joint_ranges
 from walk3d.problem import descriptors, layout
@@ -194,7 +195,7 @@ def nlp_layout(body: BodyModel, settings: PredictionSettings, sch: Schedule) -> 
         n_range,
         6 * loop_check_times(settings, sch).size,
         n_s,
-        6 * settings.model.split_terms,
+        free_split.coefficient_count(settings.model.split_terms),
     )
 
 

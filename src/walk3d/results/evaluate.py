@@ -88,12 +88,13 @@ def _state(body, settings, ph, x, t, root, w0=None, decay=None, handover=True,
     the right root's signs), None for none."""
     a_root, a_other = _anchors(settings, ph, t, root, x)
     d = ph.trailing_decay(t) if decay is None else decay
+    hand = ph.handover(t)
     if split is not None and w0 is not None:  # the trailing foot's whole load, in N
         c = np.asarray(split, float) * (1.0 if root == "r" else np.array(free_split.MIRROR))
-        h = np.broadcast_to(ph.handover(t)[0], np.shape(t))
+        h = np.broadcast_to(hand[0], np.shape(t))
         load = free_split.trailing_load([*w0[0], *w0[1]], d, h, (c * body.mass * G).ravel())
         w0, d = (tuple(load[:3]), tuple(load[3:])), np.ones(np.shape(t))
-    share = ph.handover(t) if handover and settings.model.handover else None
+    share = hand if handover and settings.model.handover else None
     coords = _coords(x, t, settings.gait.period)
     return evaluate(body, coords, root, a_root, a_other, d, w0, handover=share)
 
