@@ -68,6 +68,10 @@ LIMITS_OF_THREE = {"changes": {"limits": {"knee_flexion": (-0.1, 0, 0.1)}}}
         ({"friction": np.bool_(True)}, "friction must be a number, not a bool"),
         ({"changes": {"strength": {"ankle": 1e300}}}, r"must be in \[0.01, 10\], got 1e\+300"),
         (LIMITS_OF_THREE, r"limits of knee_flexion must be \(low, high\) in rad"),
+        # text where a number goes: pydantic would read "1_0" as 10
+        ({"changes": {"strength": {"ankle": "1_0"}}}, "strength of ankle must be a factor"),
+        ({"transition_ratios": (" 0.5 ", 0.0, 0.1, 0.1)}, "must hold numbers, not text"),
+        ({"friction": "0.8"}, "friction must be a number, not text"),
     ],
 )
 def test_bad_input_is_one_line_value_error_before_any_solve(monkeypatch, kwargs, message):
@@ -90,11 +94,13 @@ class _Solved(Exception):
     "kwargs",
     [{"changes": {"strength": {"ankle": np.float64(0.5)}}},
      {"transition_ratios": (0.2, 0.0, 0.1, 0.1)}, {"handover": np.bool_(False)},
-     {"changes": {"strength": {"ankle": 10.0}, "limits": {"knee_flexion": (-0.1, 1.5)}}}],
+     {"changes": {"strength": {"ankle": 10.0}, "limits": {"knee_flexion": (-0.1, 1.5)}}},
+     {"changes": {"limits": {"knee_flexion": (np.int64(0), 1)}}}, {"seed": np.int64(3)},
+     {"criterion": "tor", "sex": "female"}],
 )  # fmt: skip
 def test_numbers_in_range_reach_the_solve(monkeypatch, kwargs):
-    """Negative control of the bools and absurd values above: numbers, a numpy float among
-    them, and a numpy bool for a switch are accepted."""
+    """Negative control of the bools, texts and absurd values above: numbers, NumPy numbers
+    among them, a NumPy bool for a switch and text in text settings are accepted."""
     import walk3d.pipeline
 
     def solve(settings, *a, **k):

@@ -208,6 +208,8 @@ def predict(speed: float = 1.3806, *, period: float | None = None,
     from walk3d.pipeline import predict as run
     from walk3d.report.writer import write_report_or_warn
 
+    if isinstance(seed, numbers.Integral) and not isinstance(seed, bool):
+        seed = int(seed)  # a NumPy integer too
     if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
     if out is not None:

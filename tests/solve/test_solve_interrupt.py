@@ -66,3 +66,63 @@ def test_the_iteration_callback_asks_ipopt_to_stop_while_an_interrupt_is_pending
     finally:
         INTERRUPT.requested = False
     assert int(rep.eval(args)[0]) == 0
+
+
+def _long_build():
+    """A symbolic Hessian that takes about a second: one CasADi call, which releases the GIL
+    but keeps the main thread's signal handler from running until it returns."""
+    import casadi as ca
+
+    n = 70
+    x = ca.SX.sym("x", n)
+    e = 0
+    for i in range(n):
+        for j in range(n):
+            e += ca.sin(x[i] * x[j] + 1e-3 * e) if (i * n + j) % 3 == 0 else ca.cos(x[i] - x[j])
+    return lambda: ca.hessian(e, x)[0]
+
+
+def _ctrl_c_latency(call) -> float:
+    """s from a Ctrl-C sent 0.1 s into ``call()`` to its KeyboardInterrupt in this thread."""
+    import threading
+    import time
+
+    sent: list[float] = []
+
+    def send() -> None:
+        sent.append(time.perf_counter())
+        signal.raise_signal(signal.SIGINT)
+
+    timer = threading.Timer(0.1, send)
+    timer.start()
+    try:
+        call()
+        time.sleep(0.5)  # the handler runs once the call has returned
+    except KeyboardInterrupt:
+        return time.perf_counter() - sent[0]
+    finally:
+        timer.join()
+    pytest.fail("no KeyboardInterrupt")
+
+
+def test_ctrl_c_during_a_long_symbolic_build_raises_at_once(python_sigint):
+    """A build run through :func:`awaited` is interrupted within a fraction of a second; the
+    same build called directly (the control) only when it returns. The abandoned build runs on
+    and releases :data:`SYMBOLICS` when it ends."""
+    from walk3d.solve.progress import SYMBOLICS, awaited
+
+    build = _long_build()
+    at_once = _ctrl_c_latency(lambda: awaited(build))
+    with SYMBOLICS:  # the abandoned build has ended
+        direct = _ctrl_c_latency(build)
+    assert at_once < 0.3, at_once
+    assert direct > 0.5, direct
+
+
+def test_awaited_returns_the_value_and_raises_the_error():
+    """The worker's result comes back, and so does its exception."""
+    from walk3d.solve.progress import awaited
+
+    assert awaited(lambda: 41 + 1) == 42
+    with pytest.raises(ZeroDivisionError):
+        awaited(lambda: 1 / 0)

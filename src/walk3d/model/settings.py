@@ -55,6 +55,14 @@ def _numeric(annotation: Any) -> bool:
     return annotation in (int, float) or any(_numeric(a) for a in get_args(annotation))
 
 
+@cache
+def _textual(annotation: Any) -> bool:
+    """Whether a field's type also holds text (str or a Literal of strings)."""
+    if annotation is str or isinstance(annotation, str):
+        return True
+    return any(_textual(a) for a in get_args(annotation))
+
+
 def _leaves(v: Any) -> list[Any]:
     """``v``'s values, through nested tuples and lists (a loop: any depth)."""
     out, todo = [], [v]
@@ -75,17 +83,21 @@ class SettingsGroup(BaseModel):
     @field_validator("*", mode="before")
     @classmethod
     def _finite(cls, v, info):
-        """Refuse, before pydantic converts, a non-finite float anywhere in a value and a bool
-        in a numeric setting (pydantic reads ``True`` as 1.0)."""
+        """Refuse, before pydantic converts, a non-finite float anywhere in a value, and a bool
+        or text in a numeric setting (pydantic reads ``True`` as 1.0, and ``"1_0"`` as 10)."""
         name = info.field_name
         many = isinstance(v, (tuple, list))
         for x in _leaves(v):
             if isinstance(x, float | np.floating) and not math.isfinite(x):
                 what = "hold finite numbers" if many else "be a finite number"
                 raise ValueError(f"{name} must {what}, got {v!r:.60}")
-            if isinstance(x, bool | np.bool_) and _numeric(cls.model_fields[name].annotation):
+            annotation = cls.model_fields[name].annotation
+            if isinstance(x, bool | np.bool_) and _numeric(annotation):
                 what = "hold numbers" if many else "be a number"
                 raise ValueError(f"{name} must {what}, not a bool: {v!r:.60}")
+            if isinstance(x, str | bytes) and _numeric(annotation) and not _textual(annotation):
+                what = "hold numbers" if many else "be a number"
+                raise ValueError(f"{name} must {what}, not text: {v!r:.60}")
         return v
 
     def _check(self, checks: list[tuple[bool, str]]) -> None:

@@ -5,6 +5,7 @@ kg. :mod:`walk3d.body.changes` checks the names and values and applies them."""
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Mapping
 from typing import Any
 
@@ -55,7 +56,8 @@ class Changes(BaseModel):
     @classmethod
     def _items(cls, v: Any, info: Any) -> Any:
         """Refuse, in one line, an item that is not a name and its values (pydantic's own
-        message counts tuple items) or holds a bool, which pydantic would read as 1.0."""
+        message counts tuple items) or holds a bool or text, which pydantic would read as
+        1.0 or as the number it writes."""
         v = _pairs(v)
         field = info.field_name
         count, what, form = _VALUES[field]
@@ -68,6 +70,8 @@ class Changes(BaseModel):
             if any(isinstance(x, (bool, np.bool_)) for x in values):
                 raise ValueError(f"{field} of {item[0]} must be {what}, not a bool: "
                                  f"{values!r:.60}")  # fmt: skip
+            if not all(isinstance(x, numbers.Real) for x in values):  # "1_0" would read as 10
+                raise ValueError(f"{field} of {item[0]} must be {what}, got {values!r:.60}")
         return v
 
     @model_validator(mode="after")

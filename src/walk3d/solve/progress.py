@@ -9,12 +9,14 @@ ends a stage.
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import os
 import signal
 import threading
 from collections.abc import Callable, Iterator
 from types import FrameType
+from typing import TypeVar
 
 import casadi as ca
 import numpy as np
@@ -95,6 +97,57 @@ def interruptible() -> Iterator[None]:
             signal.signal(s, h)
     if outermost:
         raise_if_interrupted()
+
+
+T = TypeVar("T")
+
+SYMBOLICS = threading.RLock()
+"""Held while a model's symbolic functions are built (:func:`awaited`): CasADi's symbolic
+operations are not thread-safe, so one build runs at a time."""
+_ABANDONED: list[threading.Thread] = []
+
+
+def awaited(make: Callable[[], T]) -> T:
+    """``make()``, run in a worker thread while the main thread waits where Ctrl-C and SIGTERM
+    raise at once. Why: a model's symbolic build is a few long CasADi calls (a node Hessian
+    takes 1-4 s) that release the GIL but keep the main thread's signal handler from running
+    until they return. A build left by an interrupt runs on to its end in the background (see
+    :func:`abandoned`). Off the main thread, ``make()`` runs in the calling thread."""
+    if threading.current_thread() is not threading.main_thread():
+        with SYMBOLICS:
+            return make()
+    box: dict[str, object] = {}
+    done = threading.Event()
+
+    def work() -> None:
+        try:
+            with SYMBOLICS:
+                box["value"] = make()
+        except BaseException as exc:  # noqa: BLE001 - raised again in the waiting thread
+            box["error"] = exc
+        finally:
+            done.set()
+
+    worker = threading.Thread(target=work, name="walk3d-build", daemon=True)
+    worker.start()
+    try:
+        while not done.wait(0.05):
+            pass
+    except BaseException:
+        if not _ABANDONED:
+            atexit.register(_join_abandoned)
+        _ABANDONED.append(worker)
+        raise
+    if "error" in box:
+        raise box["error"]  # type: ignore[misc]
+    return box["value"]  # type: ignore[return-value]
+
+
+def _join_abandoned() -> None:
+    """At exit, wait for the builds that an interrupt left (:func:`awaited`): Python must not
+    free CasADi objects under a build that still runs. (The command ends with ``os._exit``.)"""
+    for worker in _ABANDONED:
+        worker.join()
 
 
 def raise_if_interrupted() -> None:

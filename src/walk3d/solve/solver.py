@@ -25,7 +25,7 @@ from walk3d.problem.bounds import Bounds, bounded_rows, bounds
 from walk3d.problem.layout import NlpLayout
 from walk3d.problem.schedule import Schedule, lifting_maps, nlp_layout, schedule
 from walk3d.problem.settings import ModelSettings, PredictionSettings, body_for
-from walk3d.solve import blas, compiled, model_cache
+from walk3d.solve import blas, compiled, model_cache, progress
 from walk3d.solve.options import ipopt_options, sqp_options
 from walk3d.solve.plan import Plan, Stage, default_plan
 from walk3d.solve.progress import IterationReporter
@@ -132,10 +132,10 @@ class Solver:
                 t0 = time.perf_counter()
                 shift, kd = (True, "full") if kind == "step" else (False, kind)
                 build = free_nlp.build_free_nlp if self.settings.gait.free else nlp.build_nlp
-                prob, _, _ = build(self.body, self.settings, *nlp.STAGES[kd],
-                                   functions=self.functions, node_derivs=self.compiled.get(kd),
-                                   node0_derivs=self.compiled.get(f"{kd}_hs"),
-                                   **({"shift": True} if shift else {}))  # fmt: skip
+                prob, _, _ = progress.awaited(lambda: build(
+                    self.body, self.settings, *nlp.STAGES[kd], functions=self.functions,
+                    node_derivs=self.compiled.get(kd), node0_derivs=self.compiled.get(f"{kd}_hs"),
+                    **({"shift": True} if shift else {})))  # fmt: skip
                 self._built[key] = prob
                 self.stage_build_s[key] = time.perf_counter() - t0
             return self._built[key]  # type: ignore[return-value]
@@ -167,7 +167,11 @@ class Solver:
                 else:
                     opts, plugin = sqp_options(self.settings), "sqpmethod"
                 opts["iteration_callback"] = self.reporters[kind]
-                fn = ca.nlpsol(f"walk3d_{st.key}", plugin, *_with_derivatives(prob, opts, plugin))
+                fn = progress.awaited(
+                    lambda: ca.nlpsol(
+                        f"walk3d_{st.key}", plugin, *_with_derivatives(prob, opts, plugin)
+                    )
+                )
                 self._built[key] = fn
                 self.stage_build_s[key] = time.perf_counter() - t0
             return self._built[key]  # type: ignore[return-value]
