@@ -81,3 +81,28 @@ def test_good_input_exits_0_with_stderr_full(tmp_path):
     with open(tmp_path / "out.json", "w") as f:
         assert _walk3d_to_full_stderr("body", "--json", stdout=f) == 0
     assert (tmp_path / "out.json").read_text().startswith("{")
+
+
+def test_a_log_warning_is_one_walk3d_line_during_a_command(monkeypatch, capsys):
+    """A warning that walk3d logs while a command runs (a damaged cache entry) is one line with
+    the command's prefix; after the command (the control) walk3d's logger has its handler no
+    more."""
+    import logging
+
+    import walk3d.cli
+
+    log = logging.getLogger("walk3d.solve.model_cache")
+
+    def run(args):
+        log.warning("ignoring damaged model cache entry %s\n(%s); rebuilding", "x.bin", "bad")
+        sys.exit(0)
+
+    monkeypatch.setattr(walk3d.cli, "_run", run)
+    with pytest.raises(SystemExit) as info:
+        walk3d.cli.main(["body"])
+    assert info.value.code == 0
+    err = capsys.readouterr().err
+    assert err == "walk3d: warning: ignoring damaged model cache entry x.bin (bad); rebuilding\n"
+    assert not any(
+        h.__class__.__name__ == "_LogLines" for h in logging.getLogger("walk3d").handlers
+    )

@@ -51,6 +51,7 @@ BAD = [
     (["--range", "ankle_dorsiflexion=5"], "--range takes DOF=MIN:MAX"),
     (["--range", "ankle_dorsiflexion=5:-5"], "is empty"),
     (["--range", "ankle_dorsiflexion=5:10"], "excludes standing"),
+    (["--range", "knee_flexion=-5:500"], "is beyond ±180°"),
     (["--range", "knee_bend=-5:5"], "unknown DoF 'knee_bend'"),
     (["--added-mass", "torso=-3"], "added mass at 'torso'"),
     (["--added-mass", "backpack=3"], "unknown segment 'backpack'"),

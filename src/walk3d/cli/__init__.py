@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import _thread
 import functools
+import logging
 import os
 import signal
 import sys
@@ -160,6 +161,18 @@ def _run(args: list[str]) -> None:
     sys.exit(rv if isinstance(rv, int) else 0)
 
 
+class _LogLines(logging.Handler):
+    """walk3d's log records at the command line: one line each, ``walk3d: warning: ...``
+    (``error`` from ERROR up), as the command's own warnings."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        kind = "error" if record.levelno >= logging.ERROR else "warning"
+        try:
+            sys.stderr.write(f"walk3d: {kind}: {' '.join(self.format(record).split())}\n")
+        except Exception:  # noqa: BLE001, S110 - a line that cannot be written is dropped
+            pass
+
+
 def main(argv: list[str] | None = None) -> None:
     """Console-script entry point: usage errors become one line and exit code 2; output that
     cannot be written (disk full) one line and exit code 3; a closed pipe
@@ -177,6 +190,8 @@ def main(argv: list[str] | None = None) -> None:
         sys.unraisablehook = functools.partial(_on_unraisable, previous=unraisable)
     sys.stdout = GuardedStdout(stream)
     sys.stderr = QuietStderr(errors)
+    log_lines = _LogLines(logging.WARNING)
+    logging.getLogger("walk3d").addHandler(log_lines)
     try:
         try:
             _run(args)
@@ -194,6 +209,7 @@ def main(argv: list[str] | None = None) -> None:
         code = EXIT_WRITE
     finally:
         sys.stdout, sys.stderr, sys.unraisablehook = stream, errors, unraisable
+        logging.getLogger("walk3d").removeHandler(log_lines)
         for sig, handler in previous.items():  # an in-process caller gets its own back; the
             # command ignores a signal once its outcome is decided: Python's exit would restore
             # the default action, which kills it with its result complete and no line

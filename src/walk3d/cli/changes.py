@@ -128,6 +128,8 @@ def changes_option(
         if not sep:
             fail(f"--range takes DOF=MIN:MAX in degrees, got {n}={v!r}")
         lo_deg, hi_deg = _number(lo, "--range", n), _number(hi, "--range", n)
+        if max(abs(lo_deg), abs(hi_deg)) > 180.0:
+            fail(f"--range {n}={v} is beyond ±180° (the limits are joint angles in degrees)")
         rows.append((n, math.radians(lo_deg), math.radians(hi_deg)))
     if rows:
         changes["limits"] = _once(rows)
