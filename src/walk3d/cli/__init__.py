@@ -37,6 +37,7 @@ from walk3d.cli import (  # noqa: F401  (register the commands)
     verify_command,
 )
 from walk3d.cli.common import EXIT_WRITE, app, err_console, fail
+from walk3d.cli.numbers import plain_numbers
 from walk3d.cli.stdout import (
     CLOSED_PIPE_EXIT,
     GuardedStdout,
@@ -140,6 +141,8 @@ def _run(args: list[str]) -> None:
     """Run the command line on ``args``; always ends in SystemExit (or ``os._exit``)."""
     try:
         command = typer.main.get_command(app)
+        if problem := plain_numbers(command, args):
+            fail(problem)
         rv = command.main(args=args, prog_name="walk3d", standalone_mode=False)
     except KeyboardInterrupt:
         _interrupted()

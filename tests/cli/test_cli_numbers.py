@@ -1,0 +1,49 @@
+"""Numeric options read as the user sees them (walk3d.cli.numbers): Python's float() and int(),
+which Typer uses, read ``6_8`` as 68 and `` 3`` as 3; walk3d refuses them with one line."""
+
+from __future__ import annotations
+
+import pytest
+import typer
+
+import walk3d.cli  # noqa: F401  (registers the commands)
+from walk3d.cli.common import app
+from walk3d.cli.numbers import plain_numbers
+
+
+@pytest.fixture(scope="module")
+def command():
+    return typer.main.get_command(app)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [(["predict", "--mass", "6_8"], "--mass takes a finite decimal number, got '6_8'"),
+     (["predict", "--mass=6_8"], "--mass takes a finite decimal number"),
+     (["predict", "--seed", " 3"], "--seed takes an integer"),
+     (["predict", "--speed", "inf"], "--speed takes a finite decimal number"),
+     (["atlas", "build", "--seed", "1_0"], "--seed takes an integer"),
+     (["track", "--period", "1_1"], "--period takes a finite decimal number")],
+)  # fmt: skip
+def test_a_number_that_is_not_plain_is_refused(command, args, message):
+    assert plain_numbers(command, args) == message or message in plain_numbers(command, args)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [["predict", "--mass", "68", "--speed=1.2e0", "--seed", "3"],
+     ["predict", "--out", "6_8"],  # not a numeric option
+     ["predict", "--", "--mass", "6_8"],
+     ["body", "--mass", "-60"]],
+)  # fmt: skip
+def test_plain_numbers_and_other_options_pass(command, args):
+    """The control: plain decimals, and text in a text option, are left to the command."""
+    assert plain_numbers(command, args) is None
+
+
+def test_the_command_refuses_before_it_runs(capsys):
+    with pytest.raises(SystemExit) as info:
+        walk3d.cli.main(["body", "--mass", "6_8"])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err == "walk3d: error: --mass takes a finite decimal number, got '6_8'\n"
