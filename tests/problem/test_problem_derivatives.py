@@ -185,3 +185,26 @@ def test_selected_rows_keep_their_values_and_derivatives():
                                atol=1e-14 * np.abs(h_ref).max())  # fmt: skip
     g_expr = ca.Function("g", [sub["x"]], [sub["g"]])(z0)
     np.testing.assert_array_equal(np.array(g_expr).ravel(), np.array(g_all).ravel()[rows])
+
+
+@pytest.mark.model
+def test_node0_derivatives_from_the_other_nodes_equal_its_own():
+    """Node 0's derivatives built from the other nodes' plus its heel-strike rows
+    (:func:`derivatives.with_rows`) equal those of node 0's own function; the other nodes'
+    alone (the control) miss the heel-strike rows."""
+    s = PredictionSettings()
+    body = body_for(s)
+    node = nlp.node_function(body, s.model, True, with_hs=False, balance=True)
+    node0 = nlp.node_function(body, s.model, True, with_hs=True, balance=True)
+    own = derivatives.node_derivatives(node0, 0)
+    other = derivatives.node_derivatives(node, 0)
+    built = derivatives.with_rows(other, node0, 0, nlp.G_ROWS["hs_wrench"])
+    rng = np.random.default_rng(3)
+    args = [0.1 * rng.normal(size=own[2].size_in(i)) for i in range(own[2].n_in())]
+    for a, b, c in zip(own, built, other, strict=True):
+        n_in = a.n_in()
+        va, vb, vc = (_dense(f(*args[:2] if n_in == 2 else args)) for f in (a, b, c))
+        assert np.abs(va).max() < 1e6  # a sane point
+        assert np.allclose(va, vb, rtol=1e-10, atol=1e-10 * np.abs(va).max())
+        if a is not own[1]:  # the gradient has no constraint rows
+            assert not np.allclose(va, vc, rtol=1e-6, atol=1e-6 * np.abs(va).max())

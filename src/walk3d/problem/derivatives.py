@@ -101,6 +101,27 @@ def node_derivatives(node: ca.Function, crit: int) -> tuple[ca.Function, ...]:
                                                        [hess])  # fmt: skip
 
 
+def with_rows(derivs: NodeDerivs, node0: ca.Function, crit: int, rows: slice) -> NodeDerivs:
+    """Node 0's ``(jac, grad, hess)`` from the other nodes' ``derivs``: node 0's function is
+    theirs with the heel-strike ``rows`` filled in (zeros there), so only those rows'
+    derivatives are new. Why: their Hessian takes a quarter of the time of node 0's whole one
+    (0.4 s against 1.9 s), and a first prediction builds both."""
+    jn, dn, hn = derivs
+    v, p, sf, lam_g, g, _ = node_symbols(node0, crit)
+    g_rows, lam_rows = g[rows.start : rows.stop], lam_g[rows.start : rows.stop]
+    j_rows = ca.SX(g.numel(), v.numel())
+    j_rows[rows.start : rows.stop, :] = ca.jacobian(g_rows, v)
+    h_rows = ca.hessian(ca.dot(lam_rows, g_rows), v)[0]
+    vm, pm = ca.MX.sym("v", v.sparsity()), ca.MX.sym("p", p.sparsity())
+    sfm, lm = ca.MX.sym("sf"), ca.MX.sym("lam_g", lam_g.sparsity())
+    jac_rows = ca.Function("walk3d_node0_rows_jac", [v, p], [j_rows])
+    hess_rows = ca.Function("walk3d_node0_rows_hess", [v, p, lam_g], [h_rows])
+    jac = ca.Function("walk3d_node0_jac", [vm, pm], [jn(vm, pm) + jac_rows(vm, pm)])
+    hess = ca.Function("walk3d_node0_hess", [vm, pm, sfm, lm],
+                       [hn(vm, pm, sfm, lm) + hess_rows(vm, pm, lm)])  # fmt: skip
+    return jac, dn, hess
+
+
 def node_gradient(node: ca.Function, crit: int) -> ca.Function:
     """``grad(v, p)``: the gradient of the node's criterion term (small)."""
     v, p, _, _, _, fc = node_symbols(node, crit)
@@ -178,6 +199,8 @@ def derivative_functions(pc: NlpPieces) -> dict[str, ca.Function]:
     elif pc.node0_derivs is not None:
         j0, d0, h0 = pc.node0_derivs
         h0 = assemble(h0, "walk3d_node0_hess") if isinstance(h0, list) else h0
+    elif isinstance(hn, ca.Function):
+        j0, d0, h0 = with_rows((jn, dn, hn), pc.node0, pc.crit, pc.hs_rows)
     else:
         j0, d0, h0 = node_derivatives(pc.node0, pc.crit)
     params = pc.params if isinstance(pc.params, ca.MX) else ca.DM(pc.params)
