@@ -59,8 +59,8 @@ LIMITS_OF_THREE = {"changes": {"limits": {"knee_flexion": (-0.1, 0, 0.1)}}}
         ({"speed": 1.3, "criterion": "nonsense"}, "criterion"),
         ({"speed": 1.3, "seed": -1}, "seed must be a non-negative integer"),
         ({"speed": 1.3, "colour": "red"}, "unknown setting 'colour'"),
-        ({"speed": "1.2"}, "speed must be a number"),
-        ({"speed": 1.3, "height": None}, "height must be a number"),
+        ({"speed": "1.2"}, "speed must be a finite number"),
+        ({"speed": 1.3, "height": None}, "height must be a finite number"),
         ({"speed": 1.3, "seed": True}, "seed must be a non-negative integer"),
         # issue #60: numpy bools, bools in calibration ratios, absurd factors, malformed limits
         (BOOL_STRENGTH, r"strength of ankle must be a factor, not a bool"),
@@ -72,6 +72,10 @@ LIMITS_OF_THREE = {"changes": {"limits": {"knee_flexion": (-0.1, 0, 0.1)}}}
         ({"changes": {"strength": {"ankle": "1_0"}}}, "strength of ankle must be a factor"),
         ({"transition_ratios": (" 0.5 ", 0.0, 0.1, 0.1)}, "must hold numbers, not text"),
         ({"friction": "0.8"}, "friction must be a number, not text"),
+        ({"changes": {"strength": {("ankle", "1_0")}}}, "strength must be a mapping or a list"),
+        ({"changes": {"added_mass": frozenset({("torso", True)})}}, "must be a mapping or a"),
+        ({"speed": 1.3, "double_support": 10**400}, "double_support must be a finite number"),
+        ({"speed": 1.3, "tol": 0.0}, r"tol must be in \[1e-12, 0.01\]"),
     ],
 )
 def test_bad_input_is_one_line_value_error_before_any_solve(monkeypatch, kwargs, message):

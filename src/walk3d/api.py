@@ -8,6 +8,7 @@ Bad input raises :class:`ValueError` with one line that names the input.
 
 from __future__ import annotations
 
+import math
 import numbers
 import sys
 import warnings
@@ -175,7 +176,7 @@ def settings(
     numbers_.update((k, options[k]) for k in ("mass", "height") if k in options)
     for name, value in numbers_.items():
         if not (value is None and name in ("period", "double_support")) and not _real(value):
-            raise ValueError(f"{name} must be a number, got {value!r}")
+            raise ValueError(f"{name} must be a finite number, got {value!r:.40}")
     options = {"height": 1.77, "threads": min(available_cores(), 64), **options}
     options["criterion"] = criterion_value(str(options.get("criterion", DEFAULT_PRESET)))
     fields_ = gait_fields(speed, period, double_support, options["height"])
@@ -244,6 +245,9 @@ def track(*, ik: str | PathLike[str] | None = None, grf: str | PathLike[str] | N
     from walk3d.validation.target import tracking_target
 
     given = {k: options.pop(k, None) for k in ("speed", "period", "double_support")}
+    for name, value in {"mass": mass, "height": height, **given}.items():
+        if value is not None and not _real(value):
+            raise ValueError(f"{name} must be a finite number, got {value!r:.40}")
     target = tracking_target(table=table, ik=ik, grf=grf, mass=mass, **given)
     if out is None:
         return run(target, mass=mass, height=height, sex=sex, seed=seed, **given, **options)
@@ -255,8 +259,13 @@ def track(*, ik: str | PathLike[str] | None = None, grf: str | PathLike[str] | N
 
 
 def _real(value: Any) -> bool:
-    """A real number that is not a bool."""
-    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+    """A finite real number that is not a bool (an int too large for a float is not)."""
+    if not isinstance(value, numbers.Real) or isinstance(value, bool):
+        return False
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:
+        return False
 
 
 def _print_stage(message: str) -> None:

@@ -23,7 +23,9 @@ def command():
      (["predict", "--seed", " 3"], "--seed takes an integer"),
      (["predict", "--speed", "inf"], "--speed takes a finite decimal number"),
      (["atlas", "build", "--seed", "1_0"], "--seed takes an integer"),
-     (["track", "--period", "1_1"], "--period takes a finite decimal number")],
+     (["track", "--period", "1_1"], "--period takes a finite decimal number"),
+     (["predict", "--leg-length-difference=-.0_2"], "--leg-length-difference takes a finite"),
+     (["predict", "--leg-length-difference", " -0.02"], "--leg-length-difference takes")],
 )  # fmt: skip
 def test_a_number_that_is_not_plain_is_refused(command, args, message):
     assert plain_numbers(command, args) == message or message in plain_numbers(command, args)
@@ -34,7 +36,7 @@ def test_a_number_that_is_not_plain_is_refused(command, args, message):
     [["predict", "--mass", "68", "--speed=1.2e0", "--seed", "3"],
      ["predict", "--out", "6_8"],  # not a numeric option
      ["predict", "--", "--mass", "6_8"],
-     ["body", "--mass", "-60"]],
+     ["body", "--mass", "-60"], ["predict", "--leg-length-difference", "-0.02"]],
 )  # fmt: skip
 def test_plain_numbers_and_other_options_pass(command, args):
     """The control: plain decimals, and text in a text option, are left to the command."""
@@ -47,3 +49,20 @@ def test_the_command_refuses_before_it_runs(capsys):
     assert info.value.code == 2
     err = capsys.readouterr().err
     assert err == "walk3d: error: --mass takes a finite decimal number, got '6_8'\n"
+
+
+def test_fit_criterion_refuses_an_out_that_is_a_file_in_one_line(tmp_path, capsys):
+    """``walk3d fit-criterion --out FILE`` is one line and exit 2 (it was a traceback); the
+    file is left as it was."""
+    trials = tmp_path / "trials.toml"
+    trials.write_text('[[trial]]\nname = "t"\nspeed = 1.2\nperiod = 1.1\ndouble_support = 0.12\n'
+                      'reference = ["t.csv"]\n')  # fmt: skip
+    (tmp_path / "t.csv").write_text("x\n")
+    out = tmp_path / "afile"
+    out.write_text("mine")
+    with pytest.raises(SystemExit) as info:
+        walk3d.cli.main(["fit-criterion", str(trials), "--parameter", "accel", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and err.count("\n") == 1, err
+    assert err.startswith("walk3d: error: --out") and "existing file" in err, err
+    assert out.read_text() == "mine"

@@ -8,7 +8,14 @@ import typer
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from walk3d.cli.common import EXIT_WRITE, app, console, fail, scheduler_option
+from walk3d.cli.common import (
+    EXIT_WRITE,
+    app,
+    check_output_folder,
+    console,
+    fail,
+    scheduler_option,
+)
 from walk3d.model.terms import DEFAULT_PRESET
 
 
@@ -50,7 +57,6 @@ def fit_criterion(
     from walk3d.fitting.trials import read_trials
     from walk3d.io.errors import DataFileError
     from walk3d.model import terms
-    from walk3d.outputs import check_output_folder
 
     if seed < 0:
         fail(f"--seed must be a non-negative integer, got {seed}")

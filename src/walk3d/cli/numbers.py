@@ -21,6 +21,8 @@ def _kind(param: Any) -> type | None:
     if get_origin(annotation) in (Union, types.UnionType):
         found = [a for a in get_args(annotation) if a is not type(None)]
         annotation = found[0] if len(found) == 1 else None
+    if get_origin(annotation) is list:  # an option given more than once
+        annotation = get_args(annotation)[0]
     return annotation if annotation in (int, float) else None
 
 

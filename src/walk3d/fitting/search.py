@@ -29,7 +29,7 @@ import numpy as np
 
 from walk3d.fitting.evaluate import evaluate, evaluation_key
 from walk3d.fitting.trials import FitTrial
-from walk3d.io.checks import read_json_object
+from walk3d.io.checks import decimal, read_json_object
 from walk3d.model import terms
 
 __all__ = ["SIGMA0", "FitMismatch", "Parameter", "criterion_of", "parameter", "weights_of"]
@@ -79,12 +79,10 @@ def parameter(text: str, base: str) -> Parameter:
     start = terms.parse(base).get(name) or EMPTY_START
     low, high = start / SPAN, start * SPAN
     if span:
-        try:
-            low, high = (float(v) for v in span.split(":"))
-        except ValueError:
-            raise ValueError(
-                f"--parameter {text!r}: the range is low:high, e.g. impact=0.5:20"
-            ) from None
+        bounds = [decimal(v) for v in span.split(":")]  # float() would read 1_0 as 10
+        if len(bounds) != 2 or any(math.isnan(b) for b in bounds):
+            raise ValueError(f"--parameter {text!r}: the range is low:high, e.g. impact=0.5:20")
+        low, high = bounds
     if not (0 < low < high < math.inf) or not (low <= start <= high):
         raise ValueError(f"--parameter {text!r}: need 0 < low <= start ({start:g}) <= high")
     return Parameter(name, low, high, start)

@@ -12,7 +12,6 @@ import io
 import json
 import math
 import numbers
-import re
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable
 from os import PathLike
@@ -21,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from walk3d.decimals import decimal
 from walk3d.io.errors import DataFileError
 
 __all__ = [
@@ -76,17 +76,6 @@ def finite_number(path: str | PathLike[str], value: Any, what: str) -> float:
     if not math.isfinite(number):
         raise DataFileError(path, f"{what} must be a finite number, got {value!r:.40}")
     return number
-
-
-_DECIMAL = re.compile(r"[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?", re.ASCII)
-
-
-def decimal(text: str) -> float:
-    """The number a plain decimal text writes (``1.2``, ``-5``, ``2e-3``), or NaN for any other
-    text, also what ``float()`` would read (``1_0`` as 10, ``inf``, non-ASCII digits): a typed
-    value is read as the user sees it."""
-    text = text.strip()
-    return float(text) if _DECIMAL.fullmatch(text) else math.nan
 
 
 def plain_file_name(path: str | PathLike[str], name: Any, what: str) -> str:

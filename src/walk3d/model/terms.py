@@ -15,6 +15,7 @@ import math
 from typing import Any
 
 from walk3d.body.model import BodyModel
+from walk3d.decimals import decimal
 from walk3d.kinematics.forward import Pose
 from walk3d.model.builtin_terms import BUILTIN
 from walk3d.model.term import Node, Parts, Term
@@ -134,7 +135,10 @@ def parse(spec: str) -> dict[str, float]:
                          f"weights like 'tor=1,accel=0.5'; got {s!r}")  # fmt: skip
     weights: dict[str, float] = {}
     given: set[str] = set()
-    for part in filter(None, (p.strip() for p in s.split(","))):
+    parts = [p.strip() for p in s.split(",")]
+    if "" in parts:
+        raise ValueError(f"criterion {s!r} has an empty item")
+    for part in parts:
         if part in PRESETS and not given and not weights:  # a preset, changed: natural,trunk=1
             weights.update((k, w) for k, w in PRESETS[part].items())
             continue
@@ -142,12 +146,9 @@ def parse(spec: str) -> dict[str, float]:
         name = name.strip()
         if name not in BASES + names():
             raise ValueError(f"unknown criterion term {name!r} (known: {known})")
-        try:
-            w = float(value)
-        except ValueError:
-            raise ValueError(
-                f"criterion weight of {name} must be a number, got {value!r}"
-            ) from None
+        w = decimal(value)  # float() would read 0_5 as 5
+        if math.isnan(w):
+            raise ValueError(f"criterion weight of {name} must be a finite number, got {value!r}")
         if not math.isfinite(w) or w < 0:
             raise ValueError(f"criterion weight of {name} must be finite and ≥ 0, got {value!r}")
         if name in given:

@@ -61,7 +61,10 @@ class Changes(BaseModel):
         v = _pairs(v)
         field = info.field_name
         count, what, form = _VALUES[field]
-        for item in v if isinstance(v, (tuple, list)) else ():
+        if not isinstance(v, (tuple, list)):  # a set or generator would skip the checks below
+            raise ValueError(f"{field} must be a mapping or a list of {form} items, "
+                             f"got a {type(v).__name__}")  # fmt: skip
+        for item in v:
             if not (isinstance(item, (tuple, list)) and item and isinstance(item[0], str)):
                 raise ValueError(f"each {field} item is {form}, got {item!r:.60}")
             values = tuple(item[1:])

@@ -173,6 +173,7 @@ class SolverSettings(SettingsGroup):
             (0 < self.loop_check_tolerance <= 0.05,
              f"loop check tolerance must be in (0, 0.05], got {self.loop_check_tolerance}"),
             (1 <= self.threads <= 64, f"threads must be in [1, 64], got {self.threads}"),
+            (1e-12 <= self.tol <= 1e-2, f"tol must be in [1e-12, 0.01], got {self.tol}"),
             (0 <= self.perturbation <= 0.5,
              f"perturbation must be in [0, 0.5], got {self.perturbation}"),
             (0 <= self.restarts <= 10,

@@ -13,6 +13,7 @@ import atexit
 import contextlib
 import os
 import signal
+import sys
 import threading
 from collections.abc import Callable, Iterator
 from types import FrameType
@@ -144,10 +145,17 @@ def awaited(make: Callable[[], T]) -> T:
 
 
 def _join_abandoned() -> None:
-    """At exit, wait for the builds that an interrupt left (:func:`awaited`): Python must not
-    free CasADi objects under a build that still runs. (The command ends with ``os._exit``.)"""
-    for worker in _ABANDONED:
-        worker.join()
+    """At exit, wait for the builds that an interrupt left (:func:`awaited`, a few seconds):
+    Python must not free CasADi objects under a build that still runs. A second Ctrl-C ends the
+    process at once (exit code 130). (The command ends with ``os._exit`` and never waits.)"""
+    try:
+        for worker in _ABANDONED:
+            worker.join()
+    except KeyboardInterrupt:
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):
+                stream.flush()
+        os._exit(130)
 
 
 def raise_if_interrupted() -> None:
