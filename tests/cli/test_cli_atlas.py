@@ -98,7 +98,8 @@ def _prediction_folder(folder):
      ("work-prediction", "--work {work} holds files walk3d did not write (motion.mot, result.npz"),
      ("work-stray", "holds files walk3d did not write (notes/)"),
      ("out-file", "--out {out} is an existing file"),
-     ("out-atlas-folder", "--out {out}/male-natural.json is a folder")],
+     ("out-atlas-folder", "--out {out}/male-natural.json is a folder"),
+     ("out-prediction", "--out {out} is a walk3d result or sweep folder")],
 )  # fmt: skip
 def test_atlas_build_refuses_its_folders_before_any_sweep(capsys, tmp_path, no_build, where,
                                                           words):  # fmt: skip
@@ -114,6 +115,8 @@ def test_atlas_build_refuses_its_folders_before_any_sweep(capsys, tmp_path, no_b
         (work / "notes" / "a.txt").write_text("mine")
     elif where == "out-file":
         out.write_text("x")
+    elif where == "out-prediction":
+        _prediction_folder(out)
     else:
         (out / "male-natural.json").mkdir(parents=True)
     r = cli(capsys, "atlas", "build", "--work", work, "--out", out, "--sex", "male")

@@ -241,3 +241,26 @@ def test_build_folders_stay_while_another_process_holds_the_lock(tmp_path, monke
         holder.kill()
         holder.wait()
     assert r.returncode == 0 and "another process" in r.stdout and folder.is_dir()
+
+
+def test_a_stopped_run_withdraws_the_compile_it_started(tmp_path):
+    """Ctrl-C or SIGTERM after the background compile started: :func:`background.withdraw`
+    ends it (its whole session) and removes its job file; the control, not withdrawn, runs on."""
+    import subprocess
+    import time
+
+    from walk3d.cli import background
+
+    procs = []
+    for name in ("withdrawn", "control"):
+        job = tmp_path / f"{name}.json"
+        job.write_text("{}")
+        procs.append((subprocess.Popen(["sleep", "30"], start_new_session=True), job))
+    background.LAUNCHED.append(procs[0])
+    background.withdraw()
+    assert procs[0][0].wait(timeout=10) == -15 and not procs[0][1].exists()
+    time.sleep(0.2)
+    assert procs[1][0].poll() is None and procs[1][1].exists()
+    procs[1][0].kill()
+    procs[1][0].wait()
+    assert not background.LAUNCHED

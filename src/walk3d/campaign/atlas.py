@@ -117,6 +117,9 @@ def check_atlas_paths(
 
     check_folder_of_folders(work_dir, "--work", "sweep.json")
     root = check_output_folder(Path(out_dir) if out_dir else ATLAS_DIR, "--out")
+    if any((root / name).exists() for name in ("summary.json", "manifest.json", "sweep.json")):
+        raise ValueError(f"--out {root} is a walk3d result or sweep folder, not an atlas folder; "
+                         "use a new folder")  # fmt: skip
     for name in names:
         check_output_file(root / f"{name}.json", "--out")
 

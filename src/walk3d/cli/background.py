@@ -31,6 +31,7 @@ import hashlib
 import json
 import os
 import secrets
+import signal
 import subprocess
 import sys
 import time
@@ -39,7 +40,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import IO
 
-from walk3d.io.atomic import atomic_write_text
+from walk3d.io.atomic import atomic_write_text, signals_deferred
 from walk3d.problem import similarity
 from walk3d.problem.settings import PredictionSettings
 from walk3d.solve import compiled, model_cache
@@ -149,8 +150,9 @@ def start(settings: PredictionSettings, compiled_kinds: list[str], flag: bool = 
     try:
         job.parent.mkdir(parents=True, exist_ok=True)
         atomic_write_text(job, settings.model_dump_json())
-        with open(p["log"], "ab") as log:
-            _spawn([sys.executable, "-m", "walk3d.cli.background", key, str(job)], log)
+        with open(p["log"], "ab") as log, signals_deferred():  # started and recorded, or not
+            proc = _spawn([sys.executable, "-m", "walk3d.cli.background", key, str(job)], log)
+            LAUNCHED.append((proc, job))
     except OSError:  # no background compile; the prediction itself is done
         job.unlink(missing_ok=True)
         return None
@@ -158,11 +160,25 @@ def start(settings: PredictionSettings, compiled_kinds: list[str], flag: bool = 
             f"priority (log {p['log']}; --no-compile-later turns it off)")  # fmt: skip
 
 
-def _spawn(cmd: list[str], log: IO[bytes]) -> None:
+LAUNCHED: list[tuple[subprocess.Popen, Path]] = []
+"""The background compiles this process started, with their job files (:func:`withdraw`)."""
+
+
+def withdraw() -> None:
+    """Stop the background compiles this process started and remove their job files: a run
+    that Ctrl-C or SIGTERM ends does not leave minutes of compiling behind it."""
+    while LAUNCHED:
+        proc, job = LAUNCHED.pop()
+        with contextlib.suppress(OSError):
+            os.killpg(proc.pid, signal.SIGTERM)  # its own session: the compilers too
+        job.unlink(missing_ok=True)
+
+
+def _spawn(cmd: list[str], log: IO[bytes]) -> subprocess.Popen:
     """Start ``cmd`` detached from this process (its own session), output to ``log``."""
-    subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                     start_new_session=True, close_fds=True,
-                     env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))  # fmt: skip
+    return subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
+                            start_new_session=True, close_fds=True,
+                            env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))  # fmt: skip
 
 
 def run(key: str, job: Path) -> int:

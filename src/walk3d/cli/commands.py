@@ -238,6 +238,8 @@ def predict(
     try:
         _predict_and_show(settings, seed, solver, out, animate, compile_later, start)
     except KeyboardInterrupt:
+        if "walk3d.cli.background" in sys.modules:  # no compile started by a stopped run
+            sys.modules["walk3d.cli.background"].withdraw()
         code = finished.code_if_written(out, before)  # the signal came once the result was whole
         if code is None:
             raise
