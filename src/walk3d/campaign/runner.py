@@ -294,6 +294,8 @@ def _run_pending(
                 record = task.write_error(root, seed, settings.model.criterion, exc)
             except OSError:  # not even a record fits (disk full): the start stays pending
                 continue
+        if record is None:  # its result did not fit (disk full): the start stays pending
+            continue
         records[seed] = record
         advance()
         future.release()

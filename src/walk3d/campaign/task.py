@@ -26,6 +26,7 @@ from distributed.diagnostics.plugin import WorkerPlugin
 
 from walk3d.campaign import store
 from walk3d.io.atomic import temporary_sibling
+from walk3d.io.errors import OutputWriteError
 from walk3d.model import terms
 from walk3d.problem.settings import flat_settings
 
@@ -171,8 +172,9 @@ def write_error(
     return store.commit_start(tmp, seed, record)
 
 
-def run_start(settings_dict: dict, seed: int, solver: str, starts_dir: str) -> dict:
-    """Run one start and store it under ``starts_dir``; returns its record.
+def run_start(settings_dict: dict, seed: int, solver: str, starts_dir: str) -> dict | None:
+    """Run one start and store it under ``starts_dir``; returns its record, or None when its
+    result could not be written (a full disk: the start stays pending, for a rerun).
 
     Never raises for a failing prediction: an exception becomes an ``error: ...`` record.
     A start already stored (e.g. a retried task) is not run again.
@@ -192,6 +194,9 @@ def run_start(settings_dict: dict, seed: int, solver: str, starts_dir: str) -> d
         settings = PredictionSettings(**settings_dict)
         pred = predict_module.predict(settings, seed, solver, out_dir=tmp)
         record = record_from_summary(pred.summary, criterion, time.perf_counter() - t0)
+    except OutputWriteError:  # not a failed start: its folder did not fit
+        shutil.rmtree(tmp, ignore_errors=True)
+        return None
     except Exception as exc:
         shutil.rmtree(tmp, ignore_errors=True)
         return write_error(root, seed, criterion, exc, time.perf_counter() - t0,
