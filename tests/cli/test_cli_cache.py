@@ -102,3 +102,14 @@ def test_cache_clear_with_a_lock_that_is_a_folder_is_one_line(tmp_path):
     r = _cache(tmp_path, "--clear")
     assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
     assert "build folders kept: the compile lock" in r.stdout and folder.is_dir()
+
+
+def test_cache_clear_removes_a_folder_in_an_entrys_place(tmp_path):
+    """A damaged cache where a library's name is a folder: --clear removes it with the rest
+    (it was a traceback, after deleting the other entries)."""
+    lib = tmp_path / "lib-k1-walk3d_full_jac_3.so"
+    (lib / "inner").mkdir(parents=True)
+    (tmp_path / "lib-k1-walk3d_full_jac_3.so.sha256").write_text("0" * 64)
+    r = _cache(tmp_path, "--clear")
+    assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
+    assert sorted(tmp_path.iterdir()) == []

@@ -35,6 +35,7 @@ import errno
 import hashlib
 import logging
 import os
+import shutil
 import stat
 import sys
 import threading
@@ -239,8 +240,11 @@ def clear_entries() -> tuple[int, int]:
     for paths in cache_entries().values():
         for path in paths:
             try:
-                n = path.stat().st_size
-                path.unlink()
+                n = path.lstat().st_size
+                if stat.S_ISDIR(path.lstat().st_mode):  # a damaged entry: a folder in its place
+                    shutil.rmtree(path)
+                else:
+                    path.unlink()
             except FileNotFoundError:
                 continue
             files, size = files + 1, size + n
