@@ -187,11 +187,16 @@ def _note(records: dict[int, dict], criterion: str) -> str:
     return text + (f"  errors {errors}" if errors else "")
 
 
+MAX_STARTS = 100_000
+"""Starts in one campaign: each is a solve of seconds to minutes, so more is days of a
+cluster's time, and its futures alone would fill the memory."""
+
+
 def _validate(starts: int, base_seed: int, workers: int | None, solver: str) -> None:
     from walk3d.solve import SOLVERS
 
-    if isinstance(starts, bool) or not isinstance(starts, int) or starts < 1:
-        raise ValueError(f"starts must be a positive integer, got {starts!r}")
+    if isinstance(starts, bool) or not isinstance(starts, int) or not 1 <= starts <= MAX_STARTS:
+        raise ValueError(f"starts must be an integer in [1, {MAX_STARTS}], got {starts!r}")
     if isinstance(base_seed, bool) or not isinstance(base_seed, int) or base_seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {base_seed!r}")
     if workers is not None and (not isinstance(workers, int) or workers < 1):
