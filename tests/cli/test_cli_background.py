@@ -251,6 +251,7 @@ def test_a_stopped_run_withdraws_the_compile_it_started(tmp_path):
 
     from walk3d.cli import background
 
+    background.LAUNCHED.clear()
     procs = []
     for name in ("withdrawn", "control"):
         job = tmp_path / f"{name}.json"

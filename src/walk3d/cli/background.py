@@ -152,7 +152,8 @@ def start(settings: PredictionSettings, compiled_kinds: list[str], flag: bool = 
         atomic_write_text(job, settings.model_dump_json())
         with open(p["log"], "ab") as log, signals_deferred():  # started and recorded, or not
             proc = _spawn([sys.executable, "-m", "walk3d.cli.background", key, str(job)], log)
-            LAUNCHED.append((proc, job))
+            if proc is not None:
+                LAUNCHED.append((proc, job))
     except OSError:  # no background compile; the prediction itself is done
         job.unlink(missing_ok=True)
         return None
