@@ -21,7 +21,7 @@ def command():
     [(["predict", "--mass", "6_8"], "--mass takes a finite decimal number, got '6_8'"),
      (["predict", "--mass=6_8"], "--mass takes a finite decimal number"),
      (["predict", "--seed", " 3"], "--seed takes an integer"),
-     (["predict", "--speed", "inf"], "--speed takes a finite decimal number"),
+     (["predict", "--speed", "1.2\u0663"], "--speed takes a finite decimal number"),
      (["atlas", "build", "--seed", "1_0"], "--seed takes an integer"),
      (["track", "--period", "1_1"], "--period takes a finite decimal number"),
      (["predict", "--leg-length-difference=-.0_2"], "--leg-length-difference takes a finite"),
@@ -36,6 +36,7 @@ def test_a_number_that_is_not_plain_is_refused(command, args, message):
     [["predict", "--mass", "68", "--speed=1.2e0", "--seed", "3"],
      ["predict", "--out", "6_8"],  # not a numeric option
      ["predict", "--", "--mass", "6_8"],
+     ["predict", "--speed", "nan"],  # read as written: the command refuses it by its range
      ["body", "--mass", "-60"], ["predict", "--leg-length-difference", "-0.02"]],
 )  # fmt: skip
 def test_plain_numbers_and_other_options_pass(command, args):

@@ -57,7 +57,7 @@ BAD = [
     (["--added-mass", "backpack=3"], "unknown segment 'backpack'"),
     (["--added-mass", "torso=3,torso=4"], "names the same part twice"),
     (["--leg-length-difference", "0.5"], "length change of 'shank_r' must be within"),
-    (["--leg-length-difference", "nan"], "--leg-length-difference takes a finite decimal"),
+    (["--leg-length-difference", "nan"], "length change of 'shank_r' must be a finite number"),
     # an HSL solver whose library cannot be loaded is refused before the solve starts
     (["--linear-solver", "ma57", "--hsl-library", "/nonexistent/libhsl.so"], "HSL solver ma57"),
 ]

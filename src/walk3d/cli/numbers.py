@@ -13,6 +13,8 @@ from typing import Any, Union, get_args, get_origin
 from walk3d.io.checks import decimal
 
 _INTEGER = re.compile(r"[+-]?\d+", re.ASCII)
+_WORDS = re.compile(r"[+-]?(nan|inf|infinity)", re.ASCII | re.IGNORECASE)
+"""What ``float()`` reads as written: the command's own check refuses it, naming its range."""
 
 
 def _kind(param: Any) -> type | None:
@@ -61,6 +63,8 @@ def plain_numbers(command: Any, args: list[str]) -> str | None:
     for name, kind, value in _values(options, rest):
         if kind is int and not _INTEGER.fullmatch(value):
             return f"{name} takes an integer, got {value!r}"
+        if kind is float and _WORDS.fullmatch(value):
+            continue
         if kind is float and (math.isnan(decimal(value)) or value.strip() != value):
             return f"{name} takes a finite decimal number, got {value!r}"
     return None
