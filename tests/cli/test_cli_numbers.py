@@ -1,5 +1,6 @@
 """Numeric options read as the user sees them (walk3d.cli.numbers): Python's float() and int(),
-which Typer uses, read ``6_8`` as 68 and `` 3`` as 3; walk3d refuses them with one line."""
+which Typer uses, read ``6_8`` as 68 and a full-width ``２`` as 2; walk3d refuses them with one
+line."""
 
 from __future__ import annotations
 
@@ -20,12 +21,12 @@ def command():
     ("args", "message"),
     [(["predict", "--mass", "6_8"], "--mass takes a finite decimal number, got '6_8'"),
      (["predict", "--mass=6_8"], "--mass takes a finite decimal number"),
-     (["predict", "--seed", " 3"], "--seed takes an integer"),
+     (["predict", "--seed", "3.0"], "--seed takes an integer"),
      (["predict", "--speed", "1.2\u0663"], "--speed takes a finite decimal number"),
      (["atlas", "build", "--seed", "1_0"], "--seed takes an integer"),
      (["track", "--period", "1_1"], "--period takes a finite decimal number"),
      (["predict", "--leg-length-difference=-.0_2"], "--leg-length-difference takes a finite"),
-     (["predict", "--leg-length-difference", " -0.02"], "--leg-length-difference takes")],
+     (["predict", "--leg-length-difference", "-0.0２"], "--leg-length-difference takes")],
 )  # fmt: skip
 def test_a_number_that_is_not_plain_is_refused(command, args, message):
     assert plain_numbers(command, args) == message or message in plain_numbers(command, args)
@@ -37,7 +38,8 @@ def test_a_number_that_is_not_plain_is_refused(command, args, message):
      ["predict", "--out", "6_8"],  # not a numeric option
      ["predict", "--", "--mass", "6_8"],
      ["predict", "--speed", "nan"],  # read as written: the command refuses it by its range
-     ["body", "--mass", "-60"], ["predict", "--leg-length-difference", "-0.02"]],
+     ["body", "--mass", "-60"], ["predict", "--leg-length-difference", "-0.02"],
+     ["predict", "--seed", " 3", "--mass", " 68 "]],  # spaces around: the number as typed
 )  # fmt: skip
 def test_plain_numbers_and_other_options_pass(command, args):
     """The control: plain decimals, and text in a text option, are left to the command."""

@@ -62,7 +62,7 @@ def _run(mode: str, cache: Path, **env: str) -> dict:
     out = subprocess.run([sys.executable, "-c", _SCRIPT, mode], capture_output=True, text=True,
                          env=full, check=False, timeout=300)  # fmt: skip
     assert out.returncode == 0, out.stderr[-2000:]
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    return json.loads(out.stdout.strip().splitlines()[-1]) | {"stderr": out.stderr}
 
 
 @pytest.fixture(scope="module")
@@ -121,11 +121,13 @@ def test_missing_scipy_openblas_keeps_casadis(cache, tmp_path):
 
 def test_a_damaged_bridge_is_built_again_not_loaded(bridged, cache):
     """A truncated bridge (``blas-*.so``) would crash the dynamic loader: it fails its digest,
-    and the next process builds it again and runs as before."""
+    and the next process says so, builds it again and runs as before."""
     (bridge,) = cache.glob("blas-*.so")
     data = bridge.read_bytes()
     bridge.write_bytes(data[: len(data) // 3])
     assert compiled.verified(bridge) is not None
     again = _run("early", cache)
     assert again["active"] and again["status"] == bridged["status"], again["describe"]
+    assert "ignoring the BLAS bridge" in again["stderr"]  # one warning line says so
+    assert "ignoring the BLAS bridge" not in bridged["stderr"]  # the control: a good one
     assert compiled.verified(bridge) is None and bridge.read_bytes() == data

@@ -187,6 +187,22 @@ def test_a_cache_that_cannot_be_written_is_skipped(tmp_path, monkeypatch):
     assert model_cache.read_functions("k") is None
 
 
+def test_a_cache_folder_that_is_a_file_is_one_warning(tmp_path, monkeypatch, caplog):
+    """A file where the cache folder goes: one warning line for the process, not one per entry
+    read and written; the control, a folder there, caches."""
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv(model_cache.ENV_DIR, str(blocker))
+    with caplog.at_level("WARNING", logger="walk3d.solve.model_cache"):
+        for key in ("k1", "k2"):
+            assert model_cache.read_functions(key) is None
+            assert model_cache.write_functions(key, _small_functions()) is None
+    lines = [r.getMessage() for r in caplog.records]
+    assert len(lines) == 1 and "is not a folder" in lines[0], lines
+    monkeypatch.setenv(model_cache.ENV_DIR, str(tmp_path / "folder"))
+    assert model_cache.write_functions("k1", _small_functions()) is not None
+
+
 def test_switch_and_location(monkeypatch, tmp_path):
     monkeypatch.setenv(model_cache.ENV_DIR, str(tmp_path))
     assert model_cache.cache_dir() == tmp_path

@@ -1,6 +1,7 @@
 """Numeric options read as the user sees them: Typer reads ``--mass 6_8`` as 68 and
-``--seed ' 3'`` as 3, as Python's ``float()`` and ``int()`` do. :func:`plain_numbers` refuses,
-before any command runs, a numeric option's value that is not a plain decimal."""
+``--speed 1.2٣`` as 1.23, as Python's ``float()`` and ``int()`` do. :func:`plain_numbers`
+refuses, before any command runs, a numeric option's value that is not a plain decimal
+(spaces around it are allowed, as in the what-if and descriptor options)."""
 
 from __future__ import annotations
 
@@ -61,10 +62,10 @@ def plain_numbers(command: Any, args: list[str]) -> str | None:
     decimal (an integer for an integer option), or None."""
     options, rest = _numeric_options(command, args)
     for name, kind, value in _values(options, rest):
-        if kind is int and not _INTEGER.fullmatch(value):
+        if kind is int and not _INTEGER.fullmatch(value.strip()):
             return f"{name} takes an integer, got {value!r}"
         if kind is float and _WORDS.fullmatch(value):
             continue
-        if kind is float and (math.isnan(decimal(value)) or value.strip() != value):
+        if kind is float and math.isnan(decimal(value)):
             return f"{name} takes a finite decimal number, got {value!r}"
     return None

@@ -168,7 +168,10 @@ def _try() -> BlasStatus:
         f"{_REVISION} {ca.__version__} {bundled.resolve()} {sob.__version__} {lib_dir}".encode()
     ).hexdigest()[:24]
     path = cache_dir() / f"blas-{key}.so"
-    if not path.is_file() or verified(path):  # a damaged bridge is built again, not loaded
+    damage = verified(path) if path.is_file() else None
+    if damage:  # a damaged bridge is built again, not loaded
+        log.warning("ignoring the BLAS bridge %s: %s; building it again", path, damage)
+    if not path.is_file() or damage:
         why = _build(path, bundled, lib_dir, lib_name)
         if why:
             return BlasStatus(False, _BUNDLED, why)

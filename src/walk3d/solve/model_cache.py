@@ -156,8 +156,26 @@ def _entry(key: str) -> Path:
     return cache_dir() / f"model-{key}.casadi"
 
 
+_REFUSED: set[Path] = set()
+"""Cache folders found not to be folders, already reported (:func:`_folder_usable`)."""
+
+
+def _folder_usable() -> bool:
+    """Whether the cache folder is a folder or can become one. A file in its place is reported
+    once per process (one line, not one per entry) and the cache is off for the process."""
+    folder = cache_dir()
+    if not folder.exists() or folder.is_dir():
+        return True
+    if folder not in _REFUSED:
+        _REFUSED.add(folder)
+        log.warning("the model cache %s is not a folder: running without the cache", folder)
+    return False
+
+
 def read_functions(key: str) -> dict[str, ca.Function] | None:
     """The functions stored under ``key``, or None if there is no entry or it is unreadable."""
+    if not _folder_usable():
+        return None
     path = _entry(key)
     try:
         text = read_regular(path).decode("ascii")
@@ -185,6 +203,8 @@ def read_functions(key: str) -> dict[str, ca.Function] | None:
 
 def write_functions(key: str, functions: dict[str, ca.Function]) -> Path | None:
     """Store ``functions`` under ``key`` atomically; the path, or None if writing failed."""
+    if not _folder_usable():
+        return None
     path = _entry(key)
     try:
         stream = ca.StringSerializer()
