@@ -51,6 +51,17 @@ def test_damaged_library_is_missing(cache):
     assert compiled.load_functions("k2", ["t_poly"]) is None
 
 
+def test_a_folder_in_a_librarys_place_is_missing_with_a_warning(cache, caplog):
+    """A folder where a library goes counts as missing and says so; an absent library (the
+    control) is missing silently."""
+    (cache / "lib-k4-t_poly.so").mkdir()
+    with caplog.at_level("WARNING", logger="walk3d.solve.compiled"):
+        assert compiled.load_functions("k5", ["t_poly"]) is None
+        assert not caplog.records
+        assert compiled.load_functions("k4", ["t_poly"]) is None
+    assert len(caplog.records) == 1 and "not a regular file" in caplog.records[0].getMessage()
+
+
 @pytest.mark.parametrize("damage", ["truncate", "alter", "no digest", "cut, then digested"])
 def test_a_library_that_does_not_match_its_digest_is_never_loaded(cache, damage, monkeypatch):
     """A truncated or altered library could crash the dynamic loader, so it is checked against

@@ -165,6 +165,9 @@ def load_functions(key: str, names: list[str]) -> dict[str, ca.Function] | None:
     for name in names:
         path = _library(key, name)
         if not path.is_file():
+            if path.exists() or path.is_symlink():  # a folder or FIFO in its place
+                log.warning("ignoring compiled function %s: not a regular file; `walk3d cache "
+                            "--clear` removes it", path)  # fmt: skip
             return None
         why = verified(path)
         if why:
