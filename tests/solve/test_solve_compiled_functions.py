@@ -60,6 +60,9 @@ def test_a_folder_in_a_librarys_place_is_missing_with_a_warning(cache, caplog):
         assert not caplog.records
         assert compiled.load_functions("k4", ["t_poly"]) is None
     assert len(caplog.records) == 1 and "not a regular file" in caplog.records[0].getMessage()
+    fn = {"t_poly": _functions()["t_poly"]}
+    assert set(compiled.compile_functions("k4", fn)) == {"t_poly"}  # the repair builds it
+    assert (cache / "lib-k4-t_poly.so").is_file()
 
 
 @pytest.mark.parametrize("damage", ["truncate", "alter", "no digest", "cut, then digested"])

@@ -216,6 +216,8 @@ def build_library(
         # the digest first: until the library is in place, a reader finds a mismatch, not a
         # library without its digest's protection
         atomic_write_text(digest_path(path), _sha256(lib) + "\n")
+        if path.is_dir() and not path.is_symlink():  # damage in the library's place: repaired
+            shutil.rmtree(path)
         os.replace(lib, path)
 
 
