@@ -66,7 +66,14 @@ def test_relax_names_map_to_settings_in_si():
     got = relaxations(["loop=0.03,foot-flat=20", "heel-rise=0.3"])
     assert got == {"loop_tolerance": 0.03, "foot_flat_tolerance": pytest.approx(math.radians(20)),
                    "heel_rise": 0.3}  # fmt: skip
-    for bad in (["loop"], ["toe=1"], ["loop=nan"], ["loop=1", "loop=2"]):
+    for bad in (
+        ["loop"],
+        ["toe=1"],
+        ["loop=nan"],
+        ["loop=1", "loop=2"],
+        ["foot-flat=1_0"],
+        ["foot-flat=２０"],
+    ):
         with pytest.raises(ValueError, match="--relax"):
             relaxations(bad)
 

@@ -135,6 +135,9 @@ def criterion_value(value: str) -> str:
     from walk3d.io.errors import DataFileError
     from walk3d.model import terms
 
+    if not isinstance(value, str):
+        raise ValueError(f"criterion must be a preset name, weights or a TOML file, got "
+                         f"{value!r:.40}")  # fmt: skip
     if value.lower().endswith(".toml"):
         try:
             value = read_criterion(value)

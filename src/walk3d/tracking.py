@@ -11,6 +11,7 @@ which constraints held it back.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,6 +20,7 @@ import numpy as np
 
 from walk3d.body.model import BodyModel
 from walk3d.constants import G
+from walk3d.decimals import decimal
 from walk3d.model import terms
 from walk3d.model.tracking import Tracking, fit_series
 from walk3d.problem.settings import PredictionSettings, body_for
@@ -57,10 +59,9 @@ def relaxations(items: list[str]) -> dict[str, float]:
             raise ValueError(f"--relax takes NAME=VALUE with NAME one of {', '.join(RELAX)}; "
                              f"got {part!r}")  # fmt: skip
         field, factor, unit = RELAX[name.strip()]
-        try:
-            v = float(value)
-        except ValueError:
-            raise ValueError(f"--relax {name}: {value!r} is not a number ({unit})") from None
+        v = decimal(value)  # float() would read 1_0 as 10
+        if math.isnan(v) and value.strip().lower() != "nan":
+            raise ValueError(f"--relax {name}: {value!r} is not a number ({unit})")
         if not np.isfinite(v) or v < 0:
             raise ValueError(f"--relax {name} must be a finite number >= 0 ({unit}), got {value}")
         if field in out:

@@ -69,3 +69,24 @@ def test_fit_criterion_refuses_an_out_that_is_a_file_in_one_line(tmp_path, capsy
     assert info.value.code == 2 and err.count("\n") == 1, err
     assert err.startswith("walk3d: error: --out") and "existing file" in err, err
     assert out.read_text() == "mine"
+
+
+@pytest.mark.parametrize(
+    ("option", "value"),
+    [("--popsize", "99999999999"), ("--generations", "99999999999999999999"),
+     ("--seed", "99999999999999999999999")],
+)  # fmt: skip
+def test_fit_criterion_refuses_absurd_sizes_before_its_folder(tmp_path, capsys, option, value):
+    """A population or seed CMA-ES cannot take was a MemoryError traceback, or refused only
+    after the fit's folder was made; the control (valid sizes) reaches the --out check."""
+    trials = tmp_path / "trials.toml"
+    trials.write_text('[[trial]]\nname = "t"\nspeed = 1.2\nperiod = 1.1\ndouble_support = 0.12\n'
+                      'reference = ["t.csv"]\n')  # fmt: skip
+    (tmp_path / "t.csv").write_text("x\n")
+    out = tmp_path / "fit"
+    with pytest.raises(SystemExit) as info:
+        walk3d.cli.main(["fit-criterion", str(trials), "--parameter", "accel", "--out", str(out),
+                         option, value])  # fmt: skip
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and err.startswith(f"walk3d: error: {option} must be"), err
+    assert not out.exists()

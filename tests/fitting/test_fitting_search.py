@@ -64,7 +64,7 @@ def test_parameter_log_scale_round_trip():
 @pytest.mark.parametrize("text, words", [
     ("nosuchterm", "not a criterion term"), ("tor", "scale"), ("impact=5:1", "low"),
     ("impact=6:9", "start (5)"), ("impact=a:b", "low:high"), ("impact=0.5:1_0", "low:high"),
-    ("impact=0.5:１0", "low:high"), ("impact=0.5:2:3", "low:high"),
+    ("impact=0.5:１0", "low:high"), ("impact=0.5:2:3", "low:high"), ("impact=", "low:high"),
 ])  # fmt: skip
 def test_parameter_refused(text, words):
     with pytest.raises(ValueError, match=words.replace("(", r"\(").replace(")", r"\)")):

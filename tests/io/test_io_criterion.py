@@ -23,7 +23,9 @@ def test_top_level_and_table_layouts_give_the_same_criterion(tmp_path):
     ("text", "words"),
     [("tor = ", "not a TOML file"), ("tor = 'one'", "must be a finite number"),
      ("tor = nan", "must be a finite number"), ("[other]\n", "weight of other"),
-     ("", "no criterion weights"), ("tor = true", "must be a finite number")],
+     ("", "no criterion weights"), ("tor = true", "must be a finite number"),
+     ("tor = 1" + "0" * 400, "must be a finite number"),
+     ('tor = 1\n"accel=5,head" = 0.5', "not a criterion term name")],
 )  # fmt: skip
 def test_bad_files_are_refused_naming_the_file(tmp_path, text, words):
     p = tmp_path / "w.toml"

@@ -18,6 +18,11 @@ from walk3d.cli.common import (
 )
 from walk3d.model.terms import DEFAULT_PRESET
 
+MAX_GENERATIONS = 1000
+"""CMA-ES generations of one fit: each predicts every trial per candidate, so more is weeks."""
+MAX_POPSIZE = 1000
+"""Candidates per generation (CMA-ES's default for a few weights is 6–8)."""
+
 
 @app.command("fit-criterion", short_help="Fit criterion weights to measured trials (CMA-ES).")
 def fit_criterion(
@@ -58,8 +63,12 @@ def fit_criterion(
     from walk3d.io.errors import DataFileError
     from walk3d.model import terms
 
-    if seed < 0:
-        fail(f"--seed must be a non-negative integer, got {seed}")
+    if not 0 <= seed < 2**32:  # CMA-ES's seed range
+        fail(f"--seed must be an integer in [0, 2**32 - 1], got {seed}")
+    if not 1 <= generations <= MAX_GENERATIONS:
+        fail(f"--generations must be an integer in [1, {MAX_GENERATIONS}], got {generations}")
+    if not 2 <= popsize <= MAX_POPSIZE:
+        fail(f"--popsize must be an integer in [2, {MAX_POPSIZE}], got {popsize}")
     if workers is not None and workers < 1:
         fail(f"--workers must be a positive integer, got {workers}")
     try:

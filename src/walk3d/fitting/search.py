@@ -66,7 +66,7 @@ def parameter(text: str, base: str) -> Parameter:
     """``term`` or ``term=low:high`` (weights) as a Parameter that starts at the ``base``
     criterion's weight. ValueError (one line) for an unknown term, a base of the paper's or a
     range that is not ``0 < low < start < high``."""
-    name, _, span = text.strip().partition("=")
+    name, eq, span = text.strip().partition("=")
     name = name.strip()
     if name in terms.BASES:
         raise ValueError(
@@ -78,6 +78,8 @@ def parameter(text: str, base: str) -> Parameter:
         )
     start = terms.parse(base).get(name) or EMPTY_START
     low, high = start / SPAN, start * SPAN
+    if eq and not span.strip():
+        raise ValueError(f"--parameter {text!r}: the range is low:high, e.g. impact=0.5:20")
     if span:
         bounds = [decimal(v) for v in span.split(":")]  # float() would read 1_0 as 10
         if len(bounds) != 2 or any(math.isnan(b) for b in bounds):

@@ -13,6 +13,7 @@ Term names are those of :mod:`walk3d.model.terms`; the weights are checked there
 from __future__ import annotations
 
 import math
+import re
 from os import PathLike
 from pathlib import Path
 
@@ -32,9 +33,12 @@ def read_criterion(path: str | PathLike[str]) -> str:
         raise DataFileError(p, "no criterion weights (expected e.g. 'tor = 1' lines)")
     parts = []
     for name, value in table.items():
+        if not re.fullmatch(r"[a-z][a-z0-9_]*", name):  # pasted into name=w,...: a term name
+            raise DataFileError(p, f"{name!r:.40} is not a criterion term name")
         ok = isinstance(value, int | float) and not isinstance(value, bool)
-        if not ok or not math.isfinite(float(value)):
-            raise DataFileError(p, f"the weight of {name} must be a finite number, got {value!r}")
+        if not ok or abs(value) > 1e300 or not math.isfinite(value):
+            raise DataFileError(p, f"the weight of {name} must be a finite number, "
+                                   f"got {value!r:.40}")  # fmt: skip
         parts.append(f"{name}={float(value):.17g}")
     return ",".join(parts)
 
