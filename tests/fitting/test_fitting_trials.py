@@ -51,6 +51,9 @@ def test_trials_read_with_paths_from_the_files_folder(folder):
     (("[[trial]]", "[[walk]]", -1), "no \\[\\[trial\\]\\] tables"),
     (("reference_speed", "belt"), "belt"),
     (("[[trial]]", "[[trial]"), "not a TOML file"),
+    # text and bools where a number goes: pydantic would read "6_8" as 68 and true as 1 s
+    (("mass = 62", 'mass = "6_8"'), "mass: Input should be a valid number"),
+    (("period = 1.1", "period = true"), "period: Input should be a valid number"),
 ])  # fmt: skip
 def test_bad_trials_are_one_line(folder, change, words):
     old, new, *count = change

@@ -43,22 +43,22 @@ class FitTrial(BaseModel):
 
     name: str = Field(pattern=r"^[A-Za-z0-9_.-]{1,40}$")
     """Short name, used in file names."""
-    mass: float = Field(68.8, gt=20, lt=250)
+    mass: float = Field(68.8, gt=20, lt=250, strict=True)
     """kg; the paper's subject by default."""
-    height: float = Field(1.77, ge=1.0, le=2.4)
+    height: float = Field(1.77, ge=1.0, le=2.4, strict=True)
     """m; the paper's subject by default."""
     sex: Literal["male", "female"] = "male"
     ik: Path | None = None
     """IK storage that gives V (with ``grf``, also T and Td)."""
     grf: Path | None = None
-    speed: float | None = Field(None, gt=0, le=4)
+    speed: float | None = Field(None, gt=0, le=4, strict=True)
     """m/s; overrides the trial's (a treadmill's belt speed)."""
-    period: float | None = Field(None, gt=0, le=3)
+    period: float | None = Field(None, gt=0, le=3, strict=True)
     """s."""
-    double_support: float | None = Field(None, gt=0, le=1)
+    double_support: float | None = Field(None, gt=0, le=1, strict=True)
     """s, one phase."""
     reference: list[Path] = Field(min_length=1)
-    reference_speed: float | None = Field(None, gt=0, le=4)
+    reference_speed: float | None = Field(None, gt=0, le=4, strict=True)
 
     @model_validator(mode="after")
     def _descriptors(self) -> FitTrial:
