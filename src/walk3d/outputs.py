@@ -30,7 +30,7 @@ from walk3d.io.errors import OutputWriteError
 
 __all__ = ["NAME_MAX_BYTES", "TEMPORARY_BYTES", "check_folder_of_folders", "check_output_file",
            "check_output_folder", "foreign_files", "new_folder", "replace_files",
-           "write_errors"]  # fmt: skip
+           "result_folder_around", "write_errors"]  # fmt: skip
 
 NAME_MAX_BYTES = 255
 """Longest file or folder name, bytes, that common file systems hold (ext4, XFS, APFS)."""
@@ -261,3 +261,12 @@ def new_folder(folder: str | PathLike[str], own: Collection[str]) -> Iterator[Pa
                 except OSError:
                     break
         raise
+
+
+def result_folder_around(folder: str | PathLike[str]) -> Path | None:
+    """The walk3d result folder (``summary.json`` beside ``result.npz``) that holds ``folder``
+    somewhere below it, or None."""
+    for parent in Path(folder).absolute().parents:
+        if (parent / "summary.json").is_file() and (parent / "result.npz").is_file():
+            return parent
+    return None

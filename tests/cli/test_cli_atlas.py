@@ -99,7 +99,8 @@ def _prediction_folder(folder):
      ("work-stray", "holds files walk3d did not write (notes/)"),
      ("out-file", "--out {out} is an existing file"),
      ("out-atlas-folder", "--out {out}/male-natural.json is a folder"),
-     ("out-prediction", "--out {out} is a walk3d result or sweep folder")],
+     ("out-prediction", "--out {out} is a walk3d result or sweep folder"),
+     ("work-inside-prediction", "--work {work} is inside the walk3d result folder")],
 )  # fmt: skip
 def test_atlas_build_refuses_its_folders_before_any_sweep(capsys, tmp_path, no_build, where,
                                                           words):  # fmt: skip
@@ -117,6 +118,8 @@ def test_atlas_build_refuses_its_folders_before_any_sweep(capsys, tmp_path, no_b
         out.write_text("x")
     elif where == "out-prediction":
         _prediction_folder(out)
+    elif where == "work-inside-prediction":
+        work = _prediction_folder(tmp_path / "pred") / "w"
     else:
         (out / "male-natural.json").mkdir(parents=True)
     r = cli(capsys, "atlas", "build", "--work", work, "--out", out, "--sex", "male")

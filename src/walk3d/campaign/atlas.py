@@ -113,8 +113,18 @@ def check_atlas_paths(
     anything but sweep folders (:func:`walk3d.outputs.check_folder_of_folders`), and an
     ``out_dir`` (the package's atlas folder by default) that is a file or cannot be written, or
     where an atlas file of ``names`` (``sex-preset``) cannot be: ValueError, one line."""
-    from walk3d.outputs import check_folder_of_folders, check_output_file, check_output_folder
+    from walk3d.outputs import (
+        check_folder_of_folders,
+        check_output_file,
+        check_output_folder,
+        result_folder_around,
+    )
 
+    for option, folder in (("--work", work_dir), ("--out", out_dir)):
+        inside = result_folder_around(folder) if folder else None
+        if inside is not None:
+            raise ValueError(f"{option} {folder} is inside the walk3d result folder {inside}; "
+                             "use a folder of its own")  # fmt: skip
     check_folder_of_folders(work_dir, "--work", "sweep.json")
     root = check_output_folder(Path(out_dir) if out_dir else ATLAS_DIR, "--out")
     if any((root / name).exists() for name in ("summary.json", "manifest.json", "sweep.json")):
