@@ -30,3 +30,27 @@ def test_a_start_that_does_not_fit_stays_pending(tmp_path, monkeypatch, full):
         assert record is None and left == []
     else:
         assert record["status"].startswith("error:") and left == ["seed_000003"]
+
+
+@pytest.mark.parametrize("reason", ["[Errno 28] No space left on device: 'a.txt'", "odd"])
+def test_a_failed_copy_to_best_is_one_short_error(tmp_path, monkeypatch, reason):
+    """copytree's error lists every file that failed (2406 characters on a full disk); the
+    error raised names the target and the first reason, once; nothing partial is left."""
+    import shutil
+
+    from walk3d.campaign import store
+
+    (tmp_path / "src").mkdir()
+    (tmp_path / "src" / "a.txt").write_text("x")
+
+    def copy(source, target, **kw):
+        raise shutil.Error([(str(source), str(target), reason)] * 50)
+
+    monkeypatch.setattr(shutil, "copytree", copy)
+    with pytest.raises(OSError) as info:
+        store.replace_folder(tmp_path / "src", tmp_path / "best")
+    line = str(OutputWriteError(tmp_path / "best", info.value))
+    assert len(line) < 200 and "best" in line and line.count("odd") <= 1, line
+    if "28" in reason:
+        assert info.value.errno == errno.ENOSPC and "no space left" in line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["src"]

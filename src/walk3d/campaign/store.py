@@ -18,6 +18,7 @@ Leftover temporaries (``.tmp_*``) come from interrupted runs and are deleted on 
 
 from __future__ import annotations
 
+import errno
 import json
 import math
 import os
@@ -281,4 +282,12 @@ def commit_start(tmp: Path, seed: int, record: dict) -> dict:
 def replace_folder(source: Path, target: Path) -> None:
     """Make ``target`` a copy of ``source`` without ever leaving a partial ``target``."""
     with atomic_folder(target) as tmp:
-        shutil.copytree(source, tmp, dirs_exist_ok=True)
+        try:
+            shutil.copytree(source, tmp, dirs_exist_ok=True)
+        except shutil.Error as exc:  # a list of (source, destination, reason), one per file
+            errors = exc.args[0] if exc.args and isinstance(exc.args[0], list) else []
+            reason = str(errors[0][2]) if errors else str(exc)
+            number = re.match(r"\[Errno (\d+)\] ([^:]*)", reason)
+            if number:
+                raise OSError(int(number[1]), number[2], str(target)) from None
+            raise OSError(errno.EIO, reason[:200], str(target)) from None
