@@ -203,7 +203,7 @@ def test_a_start_record_nested_too_deep_is_no_record(tmp_path):
 @pytest.mark.parametrize(
     "args,word",
     [(["--starts", "0"], "--starts"), (["--starts", "99999999999999999999"], "--starts"),
-     (["--workers", "0"], "--workers"),
+     (["--workers", "0"], "--workers"), (["--workers", "99999999999"], "--workers"),
      (["--max-iter", "0"], "max_iter"), (["--restarts", "-1"], "restarts")],
 )  # fmt: skip
 def test_cli_refuses_bad_campaign_options_before_creating_the_folder(tmp_path, args, word):

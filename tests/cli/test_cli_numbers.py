@@ -74,7 +74,7 @@ def test_fit_criterion_refuses_an_out_that_is_a_file_in_one_line(tmp_path, capsy
 @pytest.mark.parametrize(
     ("option", "value"),
     [("--popsize", "99999999999"), ("--generations", "99999999999999999999"),
-     ("--seed", "99999999999999999999999")],
+     ("--seed", "99999999999999999999999"), ("--workers", "99999999999")],
 )  # fmt: skip
 def test_fit_criterion_refuses_absurd_sizes_before_its_folder(tmp_path, capsys, option, value):
     """A population or seed CMA-ES cannot take was a MemoryError traceback, or refused only

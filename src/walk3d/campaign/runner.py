@@ -187,6 +187,9 @@ def _note(records: dict[int, dict], criterion: str) -> str:
     return text + (f"  errors {errors}" if errors else "")
 
 
+MAX_WORKERS = 256
+"""Local worker processes: each holds a model of about 1 GB, and a machine with more cores
+than this scales out with a scheduler (``--scheduler``)."""
 MAX_STARTS = 100_000
 """Starts in one campaign: each is a solve of seconds to minutes, so more is days of a
 cluster's time, and its futures alone would fill the memory."""
@@ -199,8 +202,8 @@ def _validate(starts: int, base_seed: int, workers: int | None, solver: str) -> 
         raise ValueError(f"starts must be an integer in [1, {MAX_STARTS}], got {starts!r}")
     if isinstance(base_seed, bool) or not isinstance(base_seed, int) or base_seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {base_seed!r}")
-    if workers is not None and (not isinstance(workers, int) or workers < 1):
-        raise ValueError(f"workers must be a positive integer, got {workers!r}")
+    if workers is not None and (not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS):
+        raise ValueError(f"workers must be an integer in [1, {MAX_WORKERS}], got {workers!r}")
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {SOLVERS}, got {solver!r}")
 

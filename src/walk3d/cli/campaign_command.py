@@ -104,8 +104,10 @@ def campaign(
 
     if not 1 <= starts <= MAX_STARTS:
         fail(f"--starts must be an integer in [1, {MAX_STARTS}], got {starts}")
-    if workers is not None and workers < 1:
-        fail(f"--workers must be a positive integer, got {workers}")
+    from walk3d.campaign.runner import MAX_WORKERS
+
+    if workers is not None and not 1 <= workers <= MAX_WORKERS:
+        fail(f"--workers must be an integer in [1, {MAX_WORKERS}], got {workers}")
     check_output_folder(out)
     scheduler_option(scheduler)
     case = paper_case(ctx, paper, {"speed": speed, "period": period, "mass": mass, "sex": sex,

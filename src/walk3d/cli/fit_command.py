@@ -69,8 +69,10 @@ def fit_criterion(
         fail(f"--generations must be an integer in [1, {MAX_GENERATIONS}], got {generations}")
     if not 2 <= popsize <= MAX_POPSIZE:
         fail(f"--popsize must be an integer in [2, {MAX_POPSIZE}], got {popsize}")
-    if workers is not None and workers < 1:
-        fail(f"--workers must be a positive integer, got {workers}")
+    from walk3d.campaign.runner import MAX_WORKERS
+
+    if workers is not None and not 1 <= workers <= MAX_WORKERS:
+        fail(f"--workers must be an integer in [1, {MAX_WORKERS}], got {workers}")
     try:
         base = terms.canonical(base)
         if base in terms.BASES:
