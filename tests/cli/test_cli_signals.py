@@ -94,6 +94,11 @@ def test_an_import_failed_by_ctrl_c_counts_as_the_interrupt():
     except ImportError as exc:
         assert _from_interrupt(exc)
     assert not _from_interrupt(ImportError("no module named x"))
+    schema_error = type("SchemaError", (Exception,), {})  # pydantic_core's, by its name
+    assert _from_interrupt(
+        schema_error('Error building "literal" validator:\n  KeyboardInterrupt: ')
+    )
+    assert not _from_interrupt(schema_error('Error building "literal" validator'))
 
 
 _SHOW = (

@@ -82,8 +82,17 @@ def _on_sigterm(_signum, _frame) -> None:
     _TERMINATED.append(True)
     progress = _progress_module()
     if progress is not None:
-        progress.INTERRUPT.terminated = True
+        progress.INTERRUPT.terminated = progress.INTERRUPT.requested = True
         raise progress.Terminated
+    raise KeyboardInterrupt
+
+
+def _on_sigint(_signum, _frame) -> None:
+    """Ctrl-C: KeyboardInterrupt, and the flag that a stage checks when it ends, in case CasADi
+    swallows the exception inside IPOPT (:func:`walk3d.solve.progress.raise_if_interrupted`)."""
+    progress = _progress_module()
+    if progress is not None:
+        progress.INTERRUPT.requested = True
     raise KeyboardInterrupt
 
 
@@ -117,10 +126,13 @@ def _send_later(sig: int, after_s: float = RESEND_AFTER_S) -> None:
 
 def _from_interrupt(exc: BaseException) -> bool:
     """Whether ``exc`` was caused by Ctrl-C or SIGTERM: a C extension interrupted while it is
-    imported raises ImportError ("initialization failed") from the KeyboardInterrupt."""
+    imported raises ImportError ("initialization failed") from the KeyboardInterrupt, and
+    pydantic, interrupted while it builds a model's validator, a SchemaError that names it."""
     seen = set()
     while exc is not None and id(exc) not in seen:
         if isinstance(exc, KeyboardInterrupt):
+            return True
+        if type(exc).__name__ == "SchemaError" and "KeyboardInterrupt" in str(exc):
             return True
         seen.add(id(exc))
         exc = exc.__cause__ or exc.__context__
@@ -185,7 +197,7 @@ def main(argv: list[str] | None = None) -> None:
     previous = {}
     if threading.current_thread() is threading.main_thread():
         for sig, handler in ((signal.SIGTERM, _on_sigterm),
-                             (signal.SIGINT, signal.default_int_handler)):  # fmt: skip
+                             (signal.SIGINT, _on_sigint)):  # fmt: skip
             if signal.getsignal(sig) is not signal.SIG_IGN:  # a background job's stays ignored
                 previous[sig] = signal.signal(sig, handler)
     stream, errors, unraisable = sys.stdout, sys.stderr, sys.unraisablehook
