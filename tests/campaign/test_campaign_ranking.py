@@ -54,6 +54,8 @@ def test_rank_csv_and_best_folder(tmp_path):
     for seed, conv, value in [(0, False, 1.0), (1, True, 9.0), (2, True, 4.0)]:
         _make_start(out, seed, conv, value)
     store.new_temporary(store.starts_dir(out), "seed_000003")  # an interrupted start
+    owner = store.starts_dir(out) / ".tmp_.tmp_seed_000004_0123456789ab_0123456789ab.owner"
+    owner.write_text("host 1\n")  # a killed worker's owner file, its folder already gone
     rows = rank(out)
     assert [r["seed"] for r in rows] == [2, 1, 0]
     lines = write_ranking(out, rows).read_text().splitlines()
@@ -62,8 +64,9 @@ def test_rank_csv_and_best_folder(tmp_path):
     assert update_best(out, rows) == 2
     assert json.loads((out / "best" / "record.json").read_text())["seed"] == 2
     assert (out / "best" / "summary.json").is_file()
-    assert len(store.clean_temporaries(out)) == 1
+    assert len(store.clean_temporaries(out)) == 2
     assert not [p for p in store.starts_dir(out).iterdir() if p.name.startswith(".tmp")]
+    assert [r["seed"] for r in rank(out)] == [2, 1, 0]  # the starts themselves stay
 
 
 def test_no_converged_start_means_no_best(tmp_path):

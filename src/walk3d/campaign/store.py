@@ -190,15 +190,20 @@ def open_campaign(
 
 
 def clean_temporaries(out_dir: str | Path) -> list[Path]:
-    """Delete the ``.tmp_*`` leftovers of interrupted runs; returns what was removed."""
+    """Delete the ``.tmp_*`` leftovers of interrupted runs (folders, and the owner files beside
+    them); returns what was removed. Called when no local worker runs."""
     removed = []
     for parent in (Path(out_dir), starts_dir(out_dir)):
         if not parent.is_dir():
             continue
         for p in parent.iterdir():
-            if p.name.startswith(TMP_PREFIX) and p.is_dir():
+            if not p.name.startswith(TMP_PREFIX):
+                continue
+            if p.is_dir() and not p.is_symlink():
                 shutil.rmtree(p, ignore_errors=True)
-                removed.append(p)
+            else:  # an owner file or a file's temporary, left by a worker killed mid-write
+                p.unlink(missing_ok=True)
+            removed.append(p)
     return removed
 
 
