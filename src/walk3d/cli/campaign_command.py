@@ -100,12 +100,10 @@ def campaign(
     DIR/best/. Exit code 0 if a start converged, 1 if none did, 2 for bad input, 3 if starts
     could not be written (a rerun retries them, and starts that failed on the disk, memory or a
     lost worker), 130 on Ctrl-C. Ends with DIR/report.html (walk3d report)."""
-    from walk3d.campaign.runner import MAX_STARTS
+    from walk3d.campaign.runner import MAX_STARTS, MAX_WORKERS
 
     if not 1 <= starts <= MAX_STARTS:
         fail(f"--starts must be an integer in [1, {MAX_STARTS}], got {starts}")
-    from walk3d.campaign.runner import MAX_WORKERS
-
     if workers is not None and not 1 <= workers <= MAX_WORKERS:
         fail(f"--workers must be an integer in [1, {MAX_WORKERS}], got {workers}")
     check_output_folder(out)
