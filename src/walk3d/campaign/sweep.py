@@ -35,8 +35,9 @@ from pathlib import Path
 import numpy as np
 
 from walk3d.campaign.sweep_folder import SweepMismatch, check_folder, speed_folder, stored
+from walk3d.decimals import decimal
 from walk3d.io.atomic import atomic_write_text
-from walk3d.io.checks import decimal, read_json_object
+from walk3d.io.checks import read_json_object
 from walk3d.model import terms
 from walk3d.problem import descriptors
 from walk3d.problem.settings import PredictionSettings

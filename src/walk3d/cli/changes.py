@@ -83,7 +83,7 @@ def _items(specs: Specs, option: str) -> list[tuple[str, str]]:
 def _number(text: str, option: str, name: str) -> float:
     """``text`` as a number, or one error line and exit 2 for one that is not finite or not
     plainly decimal (``1_0``, which ``float()`` reads as 10)."""
-    from walk3d.io.checks import decimal
+    from walk3d.decimals import decimal
 
     v = decimal(text)
     if not math.isfinite(v):

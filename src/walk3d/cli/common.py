@@ -323,7 +323,7 @@ def paper_case(ctx: typer.Context, paper: bool, values: dict) -> dict:
 def _descriptor(value: str | float, option: str) -> float | None:
     if str(value).strip().lower() == "auto":
         return None
-    from walk3d.io.checks import decimal  # 1_0 is not 10
+    from walk3d.decimals import decimal  # 1_0 is not 10
 
     number = value if isinstance(value, float) else decimal(str(value))
     if not (number > 0 and number < float("inf")):

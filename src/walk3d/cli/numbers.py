@@ -11,7 +11,7 @@ import types
 from collections.abc import Iterator
 from typing import Any, Union, get_args, get_origin
 
-from walk3d.io.checks import decimal
+from walk3d.decimals import decimal
 
 _INTEGER = re.compile(r"[+-]?\d+", re.ASCII)
 _WORDS = re.compile(r"[+-]?(nan|inf|infinity)", re.ASCII | re.IGNORECASE)

@@ -27,9 +27,10 @@ from pathlib import Path
 
 import numpy as np
 
+from walk3d.decimals import decimal
 from walk3d.fitting.evaluate import evaluate, evaluation_key
 from walk3d.fitting.trials import FitTrial
-from walk3d.io.checks import decimal, read_json_object
+from walk3d.io.checks import read_json_object
 from walk3d.model import terms
 
 __all__ = ["SIGMA0", "FitMismatch", "Parameter", "criterion_of", "parameter", "weights_of"]

@@ -20,11 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from walk3d.decimals import decimal
 from walk3d.io.errors import DataFileError
 
 __all__ = [
-    "decimal",
     "finite_number",
     "increasing",
     "plain_file_name",

@@ -260,8 +260,9 @@ def clear_entries() -> tuple[int, int]:
     for paths in cache_entries().values():
         for path in paths:
             try:
-                n = path.lstat().st_size
-                if stat.S_ISDIR(path.lstat().st_mode):  # a damaged entry: a folder in its place
+                st = path.lstat()
+                n = st.st_size
+                if stat.S_ISDIR(st.st_mode):  # a damaged entry: a folder in its place
                     shutil.rmtree(path)
                 else:
                     path.unlink()

@@ -112,8 +112,8 @@ def awaited(make: Callable[[], T]) -> T:
     """``make()``, run in a worker thread while the main thread waits where Ctrl-C and SIGTERM
     raise at once. Why: a model's symbolic build is a few long CasADi calls (a node Hessian
     takes 1-4 s) that release the GIL but keep the main thread's signal handler from running
-    until they return. A build left by an interrupt runs on to its end in the background (see
-    :func:`abandoned`). Off the main thread, ``make()`` runs in the calling thread."""
+    until they return. A build left by an interrupt runs on to its end in the background
+    (:func:`_join_abandoned`). Off the main thread, ``make()`` runs in the calling thread."""
     if threading.current_thread() is not threading.main_thread():
         with SYMBOLICS:
             return make()
