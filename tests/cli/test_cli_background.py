@@ -165,7 +165,8 @@ compile_solver(None)  # the compile alone, no background process around it
 def test_the_compilers_die_with_the_background_process(tmp_path, monkeypatch, how):
     """kill -9 of the compiling process left its two compilers running, orphaned (3.6 GB and
     1.6 GB); the fake compilers here sleep, each with a child as gcc has cc1. The failure
-    marker says it was killed."""
+    marker says it was killed, and the job file is gone. When the whole group is killed, the
+    guard with it, the job file stays: the control that the check can fail."""
     monkeypatch.setenv("WALK3D_CACHE_DIR", str(tmp_path))
     job = tmp_path / "compile-0123456789abcdef-test.json"
     job.write_text(SETTINGS.model_dump_json())
@@ -186,6 +187,7 @@ def test_the_compilers_die_with_the_background_process(tmp_path, monkeypatch, ho
             time.sleep(0.05)
         lines = marker.read_text().splitlines()
         assert len(lines) == 1 and lines[0].startswith("Killed:"), lines  # no background retry
+    assert job.exists() == (how == "kill-9-group")
     assert "Traceback" not in (tmp_path / "log").read_text()
 
 

@@ -52,6 +52,11 @@ DASK_LOG_LEVEL = logging.CRITICAL
 every start's failure itself, and at Ctrl-C a worker whose scheduler has just closed would
 otherwise print a heartbeat traceback (logged at ERROR) under the one-line message."""
 
+TRACKER_QUIET = "ignore::UserWarning:multiprocessing.resource_tracker"
+"""A ``PYTHONWARNINGS`` filter for the local cluster's processes, the resource tracker among
+them. At Ctrl-C while the workers start, the tracker frees their semaphores itself and would
+print a two-line warning about them under the one-line message."""
+
 
 @dataclass
 class CampaignReport:
@@ -135,23 +140,30 @@ def dask_client(workers: int | None, scheduler: str | None, pending: int) -> Ite
         return
     for key, value in WORKER_ENV.items():
         os.environ[key] = value  # inherited by the spawned worker processes
+    filters = os.environ.get("PYTHONWARNINGS", "")
+    if TRACKER_QUIET not in filters.split(","):
+        os.environ["PYTHONWARNINGS"] = ",".join(f for f in (filters, TRACKER_QUIET) if f)
     n = max(1, min(workers or available_cores(), pending))
     # a task that kills its worker is retried once, then recorded as an error
-    with (
-        dask.config.set({"distributed.scheduler.allowed-failures": 1}),
-        LocalCluster(
-            n_workers=n,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            silence_logs=DASK_LOG_LEVEL,
-            env=dict(WORKER_ENV),
-        ) as cluster,
-        Client(cluster) as client,
-    ):
-        client.register_plugin(task.IgnoreInterrupt())
-        _register_terms(client)
-        yield client
+    try:
+        with (
+            dask.config.set({"distributed.scheduler.allowed-failures": 1}),
+            LocalCluster(
+                n_workers=n,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=DASK_LOG_LEVEL,
+                env=dict(WORKER_ENV),
+            ) as cluster,
+            Client(cluster) as client,
+        ):
+            client.register_plugin(task.IgnoreInterrupt())
+            _register_terms(client)
+            yield client
+    except KeyboardInterrupt:  # the cluster's event loop may be left with a failed future
+        logging.getLogger("asyncio").setLevel(logging.CRITICAL)
+        raise
 
 
 def _register_terms(client: Client) -> None:

@@ -204,7 +204,7 @@ def run(key: str, job: Path) -> int:
                 plural = "" if folders == 1 else "s"
                 _say(f"removed {folders} build folder{plural} of an ended compile, "
                      f"{size / 1e6:.1f} MB")  # fmt: skip
-            with _group_guard(p["failed"]):
+            with _group_guard(p["failed"], job):
                 return _compile(key, text)
     except Exception as exc:  # noqa: BLE001 (recorded, so that no later prediction retries)
         line = f"{type(exc).__name__}: {' '.join(str(exc).split())}"
@@ -256,6 +256,10 @@ signal.signal(signal.SIGTERM, signal.SIG_IGN)
 if sys.stdin.buffer.read() != b"done":
     line = "Killed: the compiling process was ended by a signal; its compilers with it"
     try:
+        os.unlink(sys.argv[2])
+    except OSError:
+        pass
+    try:
         with open(sys.argv[1], "a", encoding="utf-8") as marker:
             marker.write(line + "\\n")
         print(f"{time.ctime()}: {line}", flush=True)
@@ -267,17 +271,18 @@ if sys.stdin.buffer.read() != b"done":
 """
 """The guard: it reads a pipe whose other end only the compiling process holds. An end without
 ``done`` means that the process died (``kill -9``, SIGTERM, out of memory): the guard ends the
-process group, and writes the failure marker (argument 1)."""
+process group, writes the failure marker (argument 1) and removes the job file (argument 2)."""
 
 
 @contextmanager
-def _group_guard(marker: Path) -> Iterator[None]:
+def _group_guard(marker: Path, job: Path) -> Iterator[None]:
     """For the block, a guard process in this process group (:data:`_GUARD`): should this
-    process die, however, the failure marker says so and the group ends with it (its compilers
+    process die, however, the failure marker says so, the ``job`` file goes and the group ends
+    with it (its compilers
     end by their own guard, :mod:`walk3d.solve.compiler_group`). The caller leads the group."""
     read, write = os.pipe()  # not inherited by the compilers: only the guard reads it
     try:
-        guard = subprocess.Popen([sys.executable, "-c", _GUARD, str(marker)], stdin=read,
+        guard = subprocess.Popen([sys.executable, "-c", _GUARD, str(marker), str(job)], stdin=read,
                                  stderr=subprocess.DEVNULL, close_fds=True)  # fmt: skip
     finally:
         os.close(read)
