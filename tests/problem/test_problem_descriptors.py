@@ -174,6 +174,33 @@ def test_given_descriptors_keep_the_paper_problem():
     assert float(np.linalg.norm(np.array(g))) == pytest.approx(G_NORM_GIVEN, rel=1e-9)
 
 
+@pytest.mark.model
+@pytest.mark.parametrize("grid", ["phase", "regular"], ids=["phase", "control: regular"])
+def test_given_descriptors_on_the_phase_grid_are_the_pinned_free_problem(grid):
+    """With ``grid = 'phase'`` a given T and Td is the problem of a predicted T and Td with s
+    at those values: the same objective and rows at any point (the free one adds s and its two
+    fraction rows). The regular grid places its nodes elsewhere, so the control differs."""
+    given = PredictionSettings(nodes=8, period=1.1, double_support=0.15, grid=grid,
+                               criterion="natural")  # fmt: skip
+    free = given.replace(free=FREE, grid="regular")
+    pg, sch, _ = nlp.build_nlp(body_for(given), given)
+    pf, _, _ = free_nlp.build_free_nlp(body_for(free), free)
+    same = pf["g"].numel() == pg["g"].numel() + 2  # the regular grid adds a toe-off loop check
+    assert pf["x"].numel() == pg["x"].numel() + 2 and same == (grid == "phase")
+    rng = np.random.default_rng(4)
+    z = rng.uniform(-0.1, 0.1, pg["x"].numel())
+    z[layout.N_X :] += rng.uniform(0.0, 0.3, z.size - layout.N_X)
+    fg, gg = ca.Function("fg", [pg["x"]], [pg["f"], pg["g"]])(z)
+    ff, gf = ca.Function("ff", [pf["x"]], [pf["f"], pf["g"]])(np.concatenate([z, [1.1, 0.15]]))
+    rows = min(gg.numel(), gf.numel() - 2)
+    gap = max(abs(float(fg - ff)), float(np.abs(np.array(gg[:rows] - gf[:rows])).max()))
+    if grid == "phase":
+        assert sch.times[0] + 0.15 == pytest.approx(sch.times[descriptors.ds_intervals(8)])
+        assert gap < 1e-9
+    else:
+        assert gap > 1e-3
+
+
 F_GIVEN = 3.682754201591211
 G_NORM_GIVEN = 119.93297581479742
 """Computed at commit 0f8e4a5, before the descriptors could be unknowns."""

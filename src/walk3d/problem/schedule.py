@@ -17,7 +17,7 @@ from walk3d.problem import descriptors, layout
 from walk3d.problem.settings import PredictionSettings
 
 __all__ = ["Schedule", "lifting_maps", "loop_check_times", "nlp_layout", "node_params",
-           "range_rows", "schedule"]  # fmt: skip
+           "on_phase_grid", "range_rows", "schedule"]  # fmt: skip
 
 LIMIT_OVERSAMPLING = 4
 """Joint-limit rows per node interval for the limited DoFs of a what-if orthosis when the
@@ -51,6 +51,12 @@ class Schedule:
         return len(self.times)
 
 
+def on_phase_grid(settings: PredictionSettings) -> bool:
+    """Whether the nodes follow the phases (:func:`free_schedule`): with a predicted descriptor,
+    or with ``settings.solver.grid`` ``phase``."""
+    return bool(settings.gait.free) or settings.solver.grid == "phase"
+
+
 def schedule(settings: PredictionSettings) -> Schedule:
     """Nodes ``t_k = t_hs_r + k T/(2N)``, ``k = 0..N-1``: the half cycle with the right root,
     plus ``settings.solver.heel_strike_nodes`` evenly inside the first interval.
@@ -72,7 +78,7 @@ def schedule(settings: PredictionSettings) -> Schedule:
     double support the leading foot loads from nothing to most of the body weight, and its
     centre of pressure left the heel by 3 cm at 0.8 body weight there (docs/criteria.md).
     """
-    if settings.gait.free:
+    if on_phase_grid(settings):
         return free_schedule(settings)
     ph = GaitPhases(settings.gait.period, settings.gait.double_support, settings.model.load_ramp)
     n = settings.solver.nodes
@@ -119,7 +125,9 @@ def _check_times(tau_ds: np.ndarray, td: float, per_interval: int, period: float
 
 def free_schedule(settings: PredictionSettings) -> Schedule:
     """The phase-following grid of :mod:`walk3d.problem.descriptors` at the settings' T and
-    Td (with a free descriptor they are the first guess)."""
+    Td (with a free descriptor they are the first guess). Given, they fix its node times,
+    weights and the trailing foot's share at each node: the problem of a predicted T and Td
+    with both pinned."""
     g = settings.gait
     grid = descriptors.grid_for(settings.solver, ramp=settings.model.load_ramp)
     t_hs = GaitPhases(g.period, g.double_support).heel_strike_r
@@ -176,7 +184,7 @@ def loop_check_times(settings: PredictionSettings, sch: Schedule) -> np.ndarray:
     gap = np.diff(sch.times)
     times = [sch.times[k] + f * gap[k] for k in ds[:-1] for f in frac]
     toe_off = sch.times[0] + settings.gait.double_support
-    if settings.gait.free:  # a node sits at toe off
+    if on_phase_grid(settings):  # a node sits at toe off
         return np.array(times)
     if (
         settings.solver.loop_check_toe_off

@@ -80,6 +80,10 @@ class SolverSettings(SettingsGroup):
 
     nodes: int = 20
     """Time nodes per half cycle; by symmetry the criteria integrate over ``2 * nodes``."""
+    grid: Literal["regular", "phase"] = "regular"
+    """The nodes of a given T and Td: ``regular``, the paper's ``k T / (2N)``, or ``phase``,
+    the grid of a predicted T and Td (:mod:`walk3d.problem.descriptors`), whose nodes keep
+    their place in the phases for any T and Td and one of which sits at toe off."""
     heel_strike_nodes: int = 0
     """Extra nodes inside the first interval after heel strike (:mod:`walk3d.problem.schedule`
     says why), where the leading foot's load starts."""
@@ -165,6 +169,8 @@ class SolverSettings(SettingsGroup):
             (6 <= self.nodes <= 200, f"nodes must be in [6, 200], got {self.nodes}"),
             (0 <= self.heel_strike_nodes <= 8,
              f"heel_strike_nodes must be in [0, 8], got {self.heel_strike_nodes}"),
+            (not (self.heel_strike_nodes and self.grid == "phase"),
+             "heel_strike_nodes need the regular grid (grid = 'regular')"),
             (0 <= self.loop_checks <= 4, f"loop checks must be in [0, 4], got {self.loop_checks}"),
             (0 <= self.contact_checks <= 4,
              f"contact checks must be in [0, 4], got {self.contact_checks}"),

@@ -112,12 +112,14 @@ class AtlasStart:
 def settings_key(settings: PredictionSettings) -> dict:
     """What an atlas entry depends on besides speed: the model settings (criterion included)
     but those at their off value (:func:`walk3d.model.settings.keyed_fields`, as in atlases
-    made before the setting existed), the sex and the time grid."""
+    made before the setting existed), the sex and the time grid (its kind only when it is the
+    phase grid, whose handover points are another problem's)."""
     model = keyed_fields(settings.model, mode="json")
     model["criterion"] = terms.preset_name(settings.model.criterion) or model["criterion"]
+    grid = {"grid": "phase"} if settings.solver.grid == "phase" else {}
     return {"sex": settings.gait.sex, "model": model, "nodes": settings.solver.nodes,
             "ds_intervals": descriptors.ds_intervals(settings.solver.nodes),
-            "heel_strike_nodes": settings.solver.heel_strike_nodes}  # fmt: skip
+            "heel_strike_nodes": settings.solver.heel_strike_nodes} | grid  # fmt: skip
 
 
 def atlas_path(sex: str, preset: str, root: Path | None = None) -> Path:
