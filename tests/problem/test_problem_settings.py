@@ -44,8 +44,9 @@ ADDED_SINCE = [
     "changes",
     "full_cycle",
     "equal_steps",
+    "grid",
 ]
-"""Fields added later (issues #23, #24, #25, #26, #41, #42, #43), with defaults, so older files
+"""Fields added later (issues #23, #24, #25, #26, #41, #42, #43, #61), with defaults, so older files
 still load."""
 
 
