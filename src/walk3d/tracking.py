@@ -72,10 +72,12 @@ def relaxations(items: list[str]) -> dict[str, float]:
 
 def only_dofs(target: TrackingTarget, names: list[str]) -> TrackingTarget:
     """``target`` with only the DoFs ``names`` measured (a DoF name, or one without its side
-    suffix for both sides: ``knee_flexion``). Raises ValueError for a name that is not a DoF or
-    that the target does not measure."""
+    suffix for both sides: ``knee_flexion``). Raises ValueError for no name, a name that is not
+    a DoF or that the target does not measure."""
     from dataclasses import replace
 
+    if not names:
+        raise ValueError("--only names no DoF (e.g. knee_flexion)")
     keep = np.zeros(len(target.dof_names), dtype=bool)
     for name in names:
         hit = [i for i, d in enumerate(target.dof_names) if name in (d, d[:-2])]

@@ -155,3 +155,29 @@ def test_tracking_the_falisse_trial_converges_and_names_what_binds(capsys, tmp_p
     audit = json.loads((tmp_path / "audit.json").read_text())
     assert {"terms", "limb_work", "bursts"} <= set(audit)
     assert np.isfinite(audit["C_weighted tracked"])
+
+
+@pytest.mark.parametrize("only", [("",), (",",), ("knee_flexion,,hip_flexion",)],
+                         ids=["empty", "comma", "empty-item"])  # fmt: skip
+def test_an_empty_dof_name_in_only_is_refused(capsys, tmp_path, only):
+    """`--only ""` tracked every DoF, `--only ,` none, and an empty item was skipped."""
+    args = [a for o in only for a in ("--only", o)]
+    one_line_error(cli(capsys, "track", "--table", "t.csv", *args, "--out", tmp_path / "o"),
+                   "--only", "empty")  # fmt: skip
+
+
+def test_repeated_only_options_add_up_and_no_name_is_refused():
+    """Repeated `--only` kept the last; the names of all reach only_dofs. The control: names
+    that the target measures pass."""
+    from dataclasses import make_dataclass
+
+    from walk3d.tracking import only_dofs
+
+    target = make_dataclass("Target", ["dof_names", "angle_mask"])(
+        ["knee_flexion_r", "knee_flexion_l", "hip_flexion_r"], np.ones(3, dtype=bool)
+    )
+    with pytest.raises(ValueError, match="names no DoF"):
+        only_dofs(target, [])
+    kept = only_dofs(target, ["knee_flexion", "hip_flexion_r"])
+    assert kept.angle_mask.tolist() == [True, True, True]
+    assert only_dofs(target, ["knee_flexion_l"]).angle_mask.tolist() == [False, True, False]

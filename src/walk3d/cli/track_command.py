@@ -51,10 +51,10 @@ def track(
     threshold: PlateThreshold = 20.0,
     seed: Annotated[int, typer.Option("--seed", help="Random start.")] = 0,
     only: Annotated[
-        str | None,
+        list[str] | None,
         typer.Option(
             "--only",
-            help="Track these DoFs alone, comma-separated (knee_flexion: both "
+            help="Track these DoFs alone, comma-separated or repeated (knee_flexion: both "
             "sides); the others follow the criterion.",
         ),
     ] = None,
@@ -95,13 +95,16 @@ def track(
         relaxed = relaxations(relax or [])
     except ValueError as exc:
         fail(str(exc))
+    names = None if only is None else [n.strip() for item in only for n in item.split(",")]
+    if names is not None and not all(names):
+        fail(f"--only: an empty DoF name in {','.join(only)!r}; name DoFs such as knee_flexion")
 
     given = {"speed": speed, "period": period, "double_support": double_support}
     try:
         target = tracking_target(table=table, ik=ik, grf=grf, mass=mass, threshold=threshold,
                                  **given)  # fmt: skip
-        if only:
-            target = only_dofs(target, [n.strip() for n in only.split(",") if n.strip()])
+        if names is not None:
+            target = only_dofs(target, names)
         settings = track_settings(target, mass=mass, height=height, sex=sex,
                                   criterion=criterion, weight=weight, **given,
                                   **relaxed)  # fmt: skip
