@@ -4,6 +4,7 @@ import json
 import re
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -283,14 +284,32 @@ def test_a_bad_scheduler_is_refused_quickly_without_a_folder(tmp_path, address, 
     assert not out.exists()
 
 
-def test_a_listening_scheduler_address_passes_the_check():
-    """Negative control for the test above: an address that accepts connections passes."""
+def test_a_listener_passes_the_check_only_if_it_greets_as_a_scheduler_does():
+    """A listener that accepts and never answers (a dashboard's port) left the campaign's
+    Client waiting without end: it is refused. The control: a listener that sends its
+    greeting first, as a Dask scheduler sends its handshake, passes."""
     import socket
+    import threading
 
     from walk3d.campaign.runner import check_scheduler
 
-    with socket.create_server(("127.0.0.1", 0)) as server:
-        check_scheduler(f"tcp://127.0.0.1:{server.getsockname()[1]}", timeout_s=2.0)
+    for greets in (False, True):
+        with socket.create_server(("127.0.0.1", 0)) as server:
+
+            def serve(server=server, greets=greets):
+                conn, _ = server.accept()
+                if greets:
+                    conn.sendall(b"dask")
+                time.sleep(1.5)
+                conn.close()
+
+            threading.Thread(target=serve, daemon=True).start()
+            address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+            if greets:
+                check_scheduler(address, timeout_s=1.0)
+            else:
+                with pytest.raises(ValueError, match="not a Dask scheduler"):
+                    check_scheduler(address, timeout_s=1.0)
     with pytest.raises(ValueError, match="no Dask scheduler answers"):
         check_scheduler("tcp://127.0.0.1:1", timeout_s=2.0)
 

@@ -106,7 +106,8 @@ SCHEDULER_TIMEOUT_S = 8.0
 
 def check_scheduler(address: str, timeout_s: float = SCHEDULER_TIMEOUT_S) -> None:
     """Raise ValueError (one line) unless ``address`` is a Dask scheduler address that accepts
-    a connection within ``timeout_s``; checked before a campaign folder is made."""
+    a connection and greets it within ``timeout_s``; checked before a campaign folder is made.
+    A listener that is not Dask's would leave ``Client`` waiting without end."""
     from distributed.comm import parse_address
     from distributed.comm.addressing import parse_host_port
 
@@ -121,10 +122,18 @@ def check_scheduler(address: str, timeout_s: float = SCHEDULER_TIMEOUT_S) -> Non
     import socket
 
     try:
-        socket.create_connection((host, int(port)), timeout=timeout_s).close()
+        with socket.create_connection((host, int(port)), timeout=timeout_s) as conn:
+            conn.settimeout(timeout_s)
+            greeted = conn.recv(1) if scheme == "tcp" else b"tls"
+    except TimeoutError:
+        greeted = b""
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
         raise ValueError(f"no Dask scheduler answers at {address} ({reason.lower()})") from None
+    if not greeted:  # a Dask scheduler sends its handshake first; a dashboard or other server waits
+        raise ValueError(f"{address} accepts connections but is not a Dask scheduler (no "
+                         f"handshake within {timeout_s:g} s; the scheduler's port is usually "
+                         "8786, its dashboard's 8787)")  # fmt: skip
 
 
 @contextlib.contextmanager
