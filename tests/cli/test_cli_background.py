@@ -225,7 +225,7 @@ def test_the_next_compile_start_removes_the_build_folders_of_ended_compiles(tmp_
     dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
                           capture_output=True, text=True, check=True)  # fmt: skip
     left = [_build_folder(tmp_path, f".build-{dead.stdout.strip()}-abc"),
-            _build_folder(tmp_path, ".build-xyz")]  # fmt: skip
+            _build_folder(tmp_path, ".build-999999999-xyz")]  # fmt: skip
     running = _build_folder(tmp_path, f".build-{os.getpid()}-def")
     r, _ = _run_job(tmp_path, "{not settings")
     assert "removed 2 build folders of an ended compile, 0.2 MB" in r.stdout, r.stdout
@@ -235,7 +235,7 @@ def test_the_next_compile_start_removes_the_build_folders_of_ended_compiles(tmp_
 def test_build_folders_stay_while_another_process_holds_the_lock(tmp_path, monkeypatch):
     """Negative control: a compile on another machine sharing the folder holds the lock."""
     monkeypatch.setenv("WALK3D_CACHE_DIR", str(tmp_path))
-    folder = _build_folder(tmp_path, ".build-xyz")
+    folder = _build_folder(tmp_path, ".build-999999999-xyz")
     holder = _holder(background.lock_path())
     try:
         r, _ = _run_job(tmp_path, "{not settings", "fedcba9876543210")

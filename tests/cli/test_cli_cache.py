@@ -11,13 +11,21 @@ def _cache(tmp_path, *args):
     return subprocess.run(cmd, capture_output=True, text=True, timeout=60, env=env)
 
 
+K1, K2, M = "1" * 32, "2" * 24, "a" * 32
+"""Key digests as walk3d writes them (hex, 32 or 24 digits)."""
+
+
 def test_cache_lists_and_clears_only_finished_entries(tmp_path):
-    entries = [tmp_path / "model-abc.casadi", tmp_path / "lib-k1-walk3d_full_hess_0.so",
-               tmp_path / "lib-k1-walk3d_full_jac_0.so", tmp_path / "blas-k2.so"]  # fmt: skip
+    entries = [tmp_path / f"model-{M}-node.casadi", tmp_path / f"lib-{K1}-walk3d_full_hess_0.so",
+               tmp_path / f"lib-{K1}-walk3d_full_jac_0.so", tmp_path / f"blas-{K2}.so"]  # fmt: skip
     for i, path in enumerate(entries):
         path.write_bytes(b"x" * 1000 * (i + 1))
-    # a write in progress, a file that is not walk3d's, and a running build (its pid this test's)
-    others = [tmp_path / ".model-def.casadi.0a1b.tmp", tmp_path / "notes.txt"]
+    # a write in progress, files that are not walk3d's (a user's folder named by
+    # $WALK3D_CACHE_DIR: they were deleted), and a running build (its pid this test's)
+    others = [tmp_path / ".model-def.casadi.0a1b.tmp", tmp_path / "notes.txt",
+              tmp_path / "lib-mine.so", tmp_path / "model-thesis.casadi"]  # fmt: skip
+    (tmp_path / ".build-mine").mkdir()
+    (tmp_path / ".build-mine" / "thesis.tex").write_text("keep")
     for path in others:
         path.write_text("keep")
     running = _build_folder(tmp_path, f".build-{os.getpid()}-abc", 1000)
@@ -32,6 +40,7 @@ def test_cache_lists_and_clears_only_finished_entries(tmp_path):
     assert "deleted 4 files" in r.stdout
     assert not any(p.exists() for p in entries)
     assert all(p.exists() for p in others) and running.is_dir()
+    assert (tmp_path / ".build-mine" / "thesis.tex").exists()
     r = _cache(tmp_path)
     assert "0 model entries, 0 compiled libraries" in r.stdout
 
@@ -53,7 +62,7 @@ def _build_folder(cache, name: str, size: int):
 def test_cache_reports_and_clears_the_build_folders_of_ended_compiles(tmp_path):
     """A killed compile left 68 MB of .build-* folders that --clear neither reported nor
     removed."""
-    left = [_build_folder(tmp_path, ".build-xyz", 2_000_000),
+    left = [_build_folder(tmp_path, ".build-999999999-xyz", 2_000_000),
             _build_folder(tmp_path, ".build-999999999-abc", 1_000_000)]  # fmt: skip
     r = _cache(tmp_path)
     assert r.returncode == 0, r.stderr
@@ -97,7 +106,7 @@ def test_cache_clear_keeps_the_build_folders_while_a_compile_holds_the_lock(tmp_
 
 def test_cache_clear_with_a_lock_that_is_a_folder_is_one_line(tmp_path):
     """The lock cannot be taken: the build folders stay, with a line that says why."""
-    folder = _build_folder(tmp_path, ".build-xyz", 1000)
+    folder = _build_folder(tmp_path, ".build-999999999-xyz", 1000)
     (tmp_path / "compile.lock").mkdir()
     r = _cache(tmp_path, "--clear")
     assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
@@ -107,9 +116,9 @@ def test_cache_clear_with_a_lock_that_is_a_folder_is_one_line(tmp_path):
 def test_cache_clear_removes_a_folder_in_an_entrys_place(tmp_path):
     """A damaged cache where a library's name is a folder: --clear removes it with the rest
     (it was a traceback, after deleting the other entries)."""
-    lib = tmp_path / "lib-k1-walk3d_full_jac_3.so"
+    lib = tmp_path / f"lib-{K1}-walk3d_full_jac_3.so"
     (lib / "inner").mkdir(parents=True)
-    (tmp_path / "lib-k1-walk3d_full_jac_3.so.sha256").write_text("0" * 64)
+    (tmp_path / f"lib-{K1}-walk3d_full_jac_3.so.sha256").write_text("0" * 64)
     r = _cache(tmp_path, "--clear")
     assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
     assert sorted(tmp_path.iterdir()) == []

@@ -132,7 +132,7 @@ def test_compile_with_a_lock_that_is_a_folder_exits_3_with_one_line(small, capsy
 
 @needs_cc
 def test_compile_removes_the_build_folders_of_ended_compiles(small, capsys):
-    left = small / ".build-xyz"
+    left = small / ".build-999999999-xyz"
     left.mkdir()
     (left / "walk3d_full_hess_1.c").write_bytes(b"x" * 300_000)
     code, out, err = cli(capsys, "compile")

@@ -222,25 +222,29 @@ def build_library(
 
 
 def build_folders() -> list[Path]:
-    """The build folders in the cache folder: builds in progress, and those of builds killed
-    before they could remove theirs."""
+    """The build folders in the cache folder, named as walk3d names them
+    (``.build-<pid>-[<start time>-]<random>``): builds in progress, and those of builds killed
+    before they could remove theirs. A folder not named so is not walk3d's: it is left alone."""
     try:
-        return sorted(p for p in cache_dir().glob(f"{BUILD_PREFIX}*") if p.is_dir())
+        found = cache_dir().glob(f"{BUILD_PREFIX}*")
+        return sorted(p for p in found if _owner(p) is not None and p.is_dir())
     except OSError:
         return []
 
 
+def _owner(folder: Path) -> tuple[int, int | None] | None:
+    """The pid and start time (None if not recorded) in a build folder's name, or None."""
+    pid, *rest = folder.name[len(BUILD_PREFIX) :].split("-")  # the random part has no "-"
+    if not (pid.isdigit() and 1 <= len(rest) <= 2 and rest[-1]):
+        return None
+    return int(pid), int(rest[0]) if len(rest) == 2 and rest[0].isdigit() else None
+
+
 def leftover_builds() -> list[Path]:
-    """The build folders whose process no longer runs here (``.build-<pid>-[<start time>-]...``;
-    any without a pid): a killed compile's. A folder of a running build, on this machine, is
-    not one; one whose pid another process has now is (its start time differs)."""
-    out = []
-    for folder in build_folders():
-        pid, *rest = folder.name[len(BUILD_PREFIX) :].split("-")  # the random part has no "-"
-        started = int(rest[0]) if len(rest) == 2 and rest[0].isdigit() else None
-        if not (pid.isdigit() and processes.running(int(pid), started)):
-            out.append(folder)
-    return out
+    """The build folders whose process no longer runs here: a killed compile's. A folder of a
+    running build, on this machine, is not one; one whose pid another process has now is (its
+    start time differs)."""
+    return [f for f in build_folders() if not processes.running(*_owner(f))]
 
 
 def folder_bytes(folder: Path) -> int:

@@ -35,6 +35,7 @@ import errno
 import hashlib
 import logging
 import os
+import re
 import shutil
 import stat
 import sys
@@ -227,12 +228,20 @@ derivatives (:mod:`walk3d.solve.compiled`), the BLAS bridge (:mod:`walk3d.solve.
 libraries' digests. Temporaries of writes in progress are not entries."""
 
 
+ENTRY_NAME = re.compile(r"(model-[0-9a-f]{32}-\w+\.casadi|lib-[0-9a-f]{32}-\w+\.so"
+                        r"|blas-[0-9a-f]{24}\.so)(\.sha256)?")  # fmt: skip
+"""The whole name of an entry walk3d writes (its key's hex digits, then the function's name):
+a user's own ``lib-mine.so`` in a folder named by ``$WALK3D_CACHE_DIR`` is not one."""
+
+
 def cache_entries() -> dict[str, list[Path]]:
-    """The finished entries in :func:`cache_dir` by kind (:data:`ENTRY_PATTERNS`)."""
+    """The finished entries in :func:`cache_dir` by kind (:data:`ENTRY_PATTERNS`), named as
+    walk3d names them (:data:`ENTRY_NAME`)."""
     folder = cache_dir()
     if not folder.is_dir():
         return {kind: [] for kind in ENTRY_PATTERNS}
-    return {kind: sorted(folder.glob(pattern)) for kind, pattern in ENTRY_PATTERNS.items()}
+    return {kind: sorted(p for p in folder.glob(pattern) if ENTRY_NAME.fullmatch(p.name))
+            for kind, pattern in ENTRY_PATTERNS.items()}  # fmt: skip
 
 
 def cache_usage() -> dict[str, int]:
