@@ -365,7 +365,7 @@ def settings_from_options(criterion: str, solver: str, seed: int, **fields):
     if settings.solver.linear_solver != "mumps" and solver == "ipopt":
         from walk3d.solve.options import linear_solver_error
 
-        problem = linear_solver_error(settings)
+        problem = linear_solver_error(settings, "--hsl-library")
         if problem:
             fail(problem)
     return settings
