@@ -61,6 +61,8 @@ BAD = [
     (["--leg-length-difference", "nan"], "length change of 'shank_r' must be a finite number"),
     # an HSL solver whose library cannot be loaded is refused before the solve starts
     (["--linear-solver", "ma57", "--hsl-library", "/nonexistent/libhsl.so"], "HSL solver ma57"),
+    # ... and a library without an HSL solver, which MUMPS ignored (exit 0)
+    (["--hsl-library", "/nonexistent/libhsl.so"], "hsl_library is the library of an HSL"),
 ]
 
 
