@@ -166,17 +166,44 @@ HslLibrary = Annotated[
         rich_help_panel=SOLVER,
     ),
 ]
+
+
+def input_file(
+    ctx: typer.Context, param: typer.CallbackParam, value: str | list[str] | None
+) -> str | list[str] | None:
+    """Callback of an option or argument naming files to read: one that is a folder, FIFO,
+    socket or device (:func:`walk3d.io.checks.input_problem`; a FIFO blocked its reader for
+    ever) is refused in one line naming the option, exit code 2, before the command starts. A
+    missing file is left to the command's reader, which names it."""
+    from walk3d.io.checks import input_problem
+
+    if ctx.resilient_parsing:  # completion: nothing is read
+        return value
+    name = param.opts[0] if param.param_type_name == "option" else str(param.name)
+    for path in [value] if isinstance(value, str) else value or []:
+        why = input_problem(path)
+        if why:
+            fail(f"{name} {path}: {why}")
+    return value
+
+
 FromTrial = Annotated[
     str | None,
     typer.Option(
         "--from-trial",
         help="IK .mot of a measured trial: V, T and Td from it (needs --grf).",
         rich_help_panel=GAIT,
+        callback=input_file,
     ),
 ]
 TrialGrf = Annotated[
     str | None,
-    typer.Option("--grf", help="GRF .mot of the --from-trial trial.", rich_help_panel=GAIT),
+    typer.Option(
+        "--grf",
+        help="GRF .mot of the --from-trial trial.",
+        rich_help_panel=GAIT,
+        callback=input_file,
+    ),
 ]
 PlateThreshold = Annotated[
     float, typer.Option("--threshold", help="Force-plate contact threshold, N.")
@@ -190,6 +217,7 @@ CalibrationFile = Annotated[
         "--calibration",
         help="Calibration JSON (walk3d calibrate): roll-over, ratios.",
         rich_help_panel=MODEL,
+        callback=input_file,
     ),
 ]
 CompileLater = Annotated[

@@ -28,6 +28,7 @@ from walk3d.io.errors import DataFileError
 __all__ = [
     "finite_number",
     "increasing",
+    "input_problem",
     "plain_file_name",
     "not_regular",
     "open_input",
@@ -54,6 +55,17 @@ def not_regular(mode: int) -> str | None:
         return "is a folder, not a file"
     kind = next((name for test, name in _KINDS if test(mode)), "of an unknown kind")
     return f"is not a regular file ({kind})"
+
+
+def input_problem(path: str | PathLike[str]) -> str | None:
+    """Why ``path`` cannot be read as an input file, without opening it: a folder, FIFO,
+    socket or device (:func:`not_regular`); None for a regular file (a link to one included)
+    and for nothing there, which its reader reports."""
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):  # missing, a NUL byte: the reader's error
+        return None
+    return not_regular(mode)
 
 
 @contextmanager

@@ -29,8 +29,9 @@ from typing import Any
 
 from walk3d.body.model import build_body
 from walk3d.io.atomic import atomic_folder, atomic_write_text
-from walk3d.io.checks import positive_numbers
+from walk3d.io.checks import input_problem, positive_numbers
 from walk3d.io.cycle_table import CycleTable, read_cycle_table
+from walk3d.io.errors import DataFileError
 from walk3d.io.storage import read_storage
 from walk3d.io.tables import write_csv_table
 from walk3d.outputs import check_output_folder, write_errors
@@ -95,8 +96,11 @@ def sort_references(paths: Sequence[str | PathLike[str]]) -> tuple[list[Path], l
     tables, storages, c3d = [], [], []
     for raw in paths:
         path = Path(raw)
-        if not path.is_file():
+        if not path.exists():
             raise FileNotFoundError(f"reference file not found: {path}")
+        why = input_problem(path)  # a FIFO would block its reader, after the other files
+        if why:
+            raise DataFileError(path, why)
         if path.suffix.lower() in (".csv", ".txt"):
             tables.append(path)
             continue
