@@ -44,7 +44,7 @@ def test_a_fifo_is_no_library_and_is_not_waited_on(tmp_path, kind):
     else:
         path.write_bytes(LIBRARY.read_bytes())
     why = elf_problem(path)
-    assert (why is None) if kind == "regular" else why == "is not a regular file (a FIFO)", why
+    assert (why is None) if kind == "regular" else why == "not a regular file (a FIFO)", why
     assert library_problem(path) == why
 
 

@@ -44,8 +44,8 @@ def elf_problem(path: str | PathLike[str]) -> str | None:
                 return f"cut short: its headers end past its {size} bytes"
             f.seek(phoff)
             table = f.read(phsize * phnum)
-    except DataFileError as exc:
-        return exc.reason
+    except DataFileError as exc:  # a folder, FIFO...: "not a regular file (a FIFO)"
+        return exc.reason.removeprefix("is ")
     except OSError as exc:
         return f"cannot be read ({exc.strerror or exc})"
     n = struct.calcsize(entry)
