@@ -171,7 +171,7 @@ def settings(
     """Validated settings with ``walk3d predict``'s defaults: ``criterion`` (a preset, weights
     or TOML file), ``mass``, ``height``, ``sex``, ``start``, ``nodes``, ``threads`` (default:
     every core) and any other :class:`~walk3d.problem.settings.PredictionSettings` field.
-    Raises ValueError with one line."""
+    Raises ValueError with one line, also for an ``hsl_library`` IPOPT must not load."""
     from walk3d.model.terms import DEFAULT_PRESET
     from walk3d.problem.settings import PredictionSettings, available_cores, first_error
 
@@ -184,9 +184,16 @@ def settings(
     options["criterion"] = criterion_value(str(options.get("criterion", DEFAULT_PRESET)))
     fields_ = gait_fields(speed, period, double_support, options["height"])
     try:
-        return PredictionSettings(**fields_, **options)
+        made = PredictionSettings(**fields_, **options)
     except ValueError as exc:
         raise ValueError(first_error(exc)) from None
+    if made.solver.hsl_library:
+        from walk3d.solve.options import hsl_library_error  # a FIFO, a library cut short
+
+        unusable = hsl_library_error(made)
+        if unusable:
+            raise ValueError(unusable)
+    return made
 
 
 def predict(speed: float = 1.3806, *, period: float | None = None,

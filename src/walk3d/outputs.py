@@ -117,6 +117,16 @@ def foreign_files(folder: str | PathLike[str], own: Collection[str]) -> list[str
     return found
 
 
+def _check_link(out: Path, option: str, shown: str, kind: str) -> None:
+    """Raise ValueError if ``out`` (its last name) is a symbolic link, dangling or not: walk3d
+    writes an output aside and renames it into place, which would replace the user's link (and
+    a dangling one failed only after the work)."""
+    if out.is_symlink():
+        raise ValueError(f"{option} {shown} is a symbolic link: walk3d would replace the "
+                         f"link with its {kind}; give the path it points to, or a new "
+                         f"{kind}")  # fmt: skip
+
+
 def _irregular(path: Path) -> bool:
     """Whether ``path`` is a device, FIFO, socket or link (lstat): what walk3d never writes."""
     try:
@@ -137,11 +147,12 @@ def check_output_folder(
     name), an existing non-empty folder must hold that file, so that only an earlier result is
     ever replaced, never a folder of other files; with ``own`` too (the paths walk3d writes
     there, or a function of the folder giving them), it must hold nothing else
-    (:func:`foreign_files`). A path that is not UTF-8 or has a name too long for a file system
-    is refused too. Returns the folder."""
+    (:func:`foreign_files`). A path that is not UTF-8, has a name too long for a file system
+    or is a symbolic link (:func:`_check_link`) is refused too. Returns the folder."""
     _check_name(path, option)
     out = Path(path)
     shown = os.fspath(path)
+    _check_link(out, option, shown, "folder")
     if out.exists() and not out.is_dir():
         raise ValueError(f"{option} {shown} is an existing file, not a folder")
     if replaces and out.is_dir() and any(out.iterdir()):
@@ -190,11 +201,13 @@ def check_output_file(
     path: str | PathLike[str], option: str = "--out", suffix: str | None = None
 ) -> Path:
     """Refuse, before any work starts, an output file that is a folder, lacks ``suffix``
-    (``".mp4"``...), cannot be created, is not UTF-8 or has a name too long for a file system:
-    ValueError with one line. Returns the file's path."""
+    (``".mp4"``...), cannot be created, is not UTF-8, has a name too long for a file system or
+    is a symbolic link (:func:`_check_link`): ValueError with one line. Returns the file's
+    path."""
     _check_name(path, option)
     out = Path(path)
     shown = os.fspath(path)
+    _check_link(out, option, shown, "file")
     if suffix is not None and out.suffix.lower() != suffix:
         raise ValueError(f"{option} must name a {suffix} file, got {shown}")
     if out.is_dir():

@@ -5,6 +5,7 @@ import json
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -60,6 +61,8 @@ BAD = [
     (["--leg-length-difference", "nan"], "length change of 'shank_r' must be a finite number"),
     # an HSL solver whose library cannot be loaded is refused before the solve starts
     (["--linear-solver", "ma57", "--hsl-library", "/nonexistent/libhsl.so"], "HSL solver ma57"),
+    # ... and a library without an HSL solver, which MUMPS ignored (exit 0)
+    (["--hsl-library", "/nonexistent/libhsl.so"], "hsl_library is the library of an HSL"),
 ]
 
 
@@ -98,6 +101,38 @@ def test_campaign_refuses_an_unusable_hsl_solver_before_starting(tmp_path):
     assert r.returncode == 2, r.stderr
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and "HSL solver ma27" in lines[0], r.stderr
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("command", "kind", "word"),
+    [("predict", "cut", "cut short"), ("predict", "fifo", "not a regular file (a FIFO)"),
+     ("campaign", "cut", "cut short"), ("predict", "whole", "IPOPT could not use")],
+)  # fmt: skip
+def test_an_hsl_library_cut_short_or_a_fifo_is_one_line_not_a_crash(tmp_path, command, kind,
+                                                                     word):  # fmt: skip
+    """--hsl-library of a library cut short took the process down in the dynamic loader (bus
+    error, exit 135, no message) and a FIFO blocked it for ever: one line, exit 2, nothing
+    written. Negative control: a whole library (CasADi's, no HSL solver in it) passes the check
+    and reaches IPOPT's probe, which refuses it for want of the solver."""
+    import casadi as ca
+
+    whole = next(Path(ca.__file__).parent.glob("_casadi*.so"))
+    lib = tmp_path / "libhsl.so"
+    if kind == "cut":
+        lib.write_bytes(whole.read_bytes()[:300_000])
+    elif kind == "fifo":
+        os.mkfifo(lib)
+    else:
+        lib = whole
+    out = tmp_path / "o"
+    starts = ["--starts", "2"] if command == "campaign" else []
+    cmd = [sys.executable, "-m", "walk3d.cli", command, "--out", str(out), *starts,
+           "--linear-solver", "ma27", "--hsl-library", str(lib)]  # fmt: skip
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=180)
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and word in lines[0] and str(lib) in lines[0], r.stderr
     assert not out.exists()
 
 

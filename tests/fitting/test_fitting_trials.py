@@ -82,3 +82,21 @@ def test_cli_bad_input_is_one_line_and_exit_2(folder, args, words):
     assert res.exit_code == 2, res.output
     assert words in res.output and "Traceback" not in res.output
     assert not (folder / "fit").exists()
+
+
+@pytest.mark.parametrize("kind", ["fifo", "folder", "regular"])
+def test_a_trial_file_that_is_no_regular_file_is_refused(folder, kind):
+    """A FIFO named by a trial was taken for a file, and its reader blocked for ever.
+    Negative control: the regular file is accepted."""
+    import os
+
+    (folder / "trials.toml").write_text(GOOD)
+    ref = folder / "ref.csv"
+    if kind != "regular":
+        ref.unlink()
+        os.mkfifo(ref) if kind == "fifo" else ref.mkdir()
+    if kind == "regular":
+        assert len(read_trials(folder / "trials.toml")) == 2
+        return
+    with pytest.raises(DataFileError, match=f"trial w: {ref} is (a folder|not a regular file)"):
+        read_trials(folder / "trials.toml")

@@ -188,3 +188,46 @@ def test_temporaries_are_known_by_their_exact_form(tmp_path):
     owner.rmdir()
     owner.write_text("host 1 1\n")
     assert [folder_temporary_of(p) for p in (folder, old, owner)] == ["validation"] * 3
+
+
+@pytest.mark.parametrize("kind", ["link to a folder", "dangling link", "link made while built",
+                                  "folder"])  # fmt: skip
+def test_atomic_folder_never_replaces_a_symbolic_link(tmp_path, kind):
+    """The link was renamed aside as .tmp_old_<name>_<hex> and never removed (rmtree does not
+    follow it), and a real folder took its name. Now FileExistsError, before the build and at
+    the commit, and the link stays. Negative control: a real folder is replaced."""
+    from walk3d.io.atomic import atomic_folder
+
+    real = tmp_path / "real"
+    real.mkdir()
+    (real / "old.txt").write_text("the earlier result")
+    target = real if kind == "folder" else tmp_path / "out"
+    if kind in ("link to a folder", "dangling link"):
+        target.symlink_to(real if kind == "link to a folder" else tmp_path / "nothing")
+    if kind == "folder":
+        with atomic_folder(target) as tmp:
+            (tmp / "new.txt").write_text("new")
+        assert [p.name for p in target.iterdir()] == ["new.txt"]
+        return
+    with pytest.raises(FileExistsError, match="is a symbolic link"), atomic_folder(target) as tmp:
+        if kind == "link made while built":
+            target.symlink_to(real)
+        (tmp / "new.txt").write_text("new")
+    assert target.is_symlink() and (real / "old.txt").read_text() == "the earlier result"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "real"]  # no temporary left
+
+
+@pytest.mark.parametrize("kind", ["link to a file", "dangling link", "file"])
+def test_an_output_file_that_is_a_symbolic_link_is_refused(tmp_path, kind):
+    """check_output_file (calibrate, report, animate, audit --out) let a link through, and the
+    atomic writer replaced the link with a regular file. Negative control: a regular file."""
+    real = tmp_path / "real.json"
+    real.write_text("{}")
+    out = real if kind == "file" else tmp_path / "link.json"
+    if kind != "file":
+        out.symlink_to(real if kind == "link to a file" else tmp_path / "nothing.json")
+        with pytest.raises(ValueError, match=f"--out {out} is a symbolic link"):
+            check_output_file(out)
+        assert out.is_symlink()
+        return
+    assert check_output_file(out) == out

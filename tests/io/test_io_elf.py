@@ -2,12 +2,13 @@
 CasADi's own library, whole (the control) and cut at several lengths, and a file that is not
 ELF."""
 
+import os
 from pathlib import Path
 
 import casadi as ca
 import pytest
 
-from walk3d.io.elf import elf_problem
+from walk3d.io.elf import elf_problem, library_problem
 
 LIBRARY = next(Path(ca.__file__).parent.glob("_casadi*.so"))
 
@@ -31,3 +32,23 @@ def test_a_file_that_is_not_elf_and_one_that_is_missing(tmp_path):
     text.write_text("not a library")
     assert elf_problem(text) == "not an ELF file"
     assert "cannot be read" in elf_problem(tmp_path / "none.so")
+
+
+@pytest.mark.parametrize("kind", ["fifo", "regular"])
+def test_a_fifo_is_no_library_and_is_not_waited_on(tmp_path, kind):
+    """The loader blocked for ever on a FIFO given as a library; it is refused at once, without
+    a read. Negative control: a regular copy of the whole library passes."""
+    path = tmp_path / "lib.so"
+    if kind == "fifo":
+        os.mkfifo(path)
+    else:
+        path.write_bytes(LIBRARY.read_bytes())
+    why = elf_problem(path)
+    assert (why is None) if kind == "regular" else why == "not a regular file (a FIFO)", why
+    assert library_problem(path) == why
+
+
+def test_a_bare_name_is_left_to_the_library_path():
+    """``libhsl.so`` is looked up on the library path by the loader, not in the working folder."""
+    assert library_problem("libhsl.so") is None
+    assert "cannot be read" in library_problem("./libhsl-missing.so")

@@ -198,3 +198,30 @@ def test_recorded_settings_read_grouped_and_flat_summaries():
     assert PredictionSettings(**recorded_settings(before_groups)) == s
     assert recorded_settings({"objective": {}}) == {}
     assert flat_settings(s.model_dump()) == flat_settings(s.flat()) == s.flat()
+
+
+@pytest.mark.parametrize(
+    ("linear_solver", "hsl_library", "refused"),
+    [("mumps", "/opt/hsl/libhsl.so", True), ("ma27", "/opt/hsl/libhsl.so", False),
+     ("mumps", None, False), ("ma57", None, False)],
+)  # fmt: skip
+def test_an_hsl_library_without_an_hsl_solver_is_refused(linear_solver, hsl_library, refused):
+    """``--hsl-library X`` without ``--linear-solver`` was ignored (MUMPS needs no library) and
+    the command exited 0. Negative control: with an HSL solver, or without a library, it passes
+    (no file is read here)."""
+    kwargs = {"linear_solver": linear_solver, "hsl_library": hsl_library}
+    if not refused:
+        assert PredictionSettings(**kwargs).solver.hsl_library == hsl_library
+        return
+    with pytest.raises(ValueError, match="^hsl_library is the library of an HSL linear_solver"):
+        PredictionSettings(**kwargs)
+
+
+@pytest.mark.parametrize("linear_solver", ["mumps", "ma27"])
+def test_a_summary_that_recorded_an_ignored_hsl_library_still_loads(linear_solver):
+    """An earlier walk3d recorded ``hsl_library`` beside MUMPS, which ignored it: such a summary
+    loads without it. Negative control: beside an HSL solver it is kept."""
+    summary = {"settings": {"solver": {"linear_solver": linear_solver, "hsl_library": "/x.so"}}}
+    recorded = recorded_settings(summary)
+    assert recorded["hsl_library"] == (None if linear_solver == "mumps" else "/x.so")
+    assert PredictionSettings(**recorded).solver.linear_solver == linear_solver

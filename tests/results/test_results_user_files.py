@@ -124,3 +124,28 @@ def test_an_earlier_result_holding_a_fifo_is_refused_and_the_fifo_kept(
     (folder / "summary.png").write_text("the earlier figure")
     _save(prediction, folder)
     assert not (folder / "summary.png").exists()  # saved without a figure this time
+
+
+@pytest.mark.parametrize("kind", ["link to an earlier result", "dangling link"])
+def test_an_out_that_is_a_symbolic_link_is_refused_and_the_link_kept(
+    prediction, tmp_path, capsys, kind
+):
+    """save('link') turned the user's link to an earlier result into a real folder and left
+    the link as .tmp_old_link_<hex> for ever; predict --out DANGLING solved, then failed with
+    exit 3. Now refused in one line before any work (save, walk3d.predict, the command).
+    Negative control: the folder the link points to is replaced."""
+    from helpers import cli, one_line_error
+
+    earlier = _save(prediction, tmp_path / "b3")
+    link = tmp_path / "link"
+    link.symlink_to(earlier if kind.startswith("link") else tmp_path / "nothing")
+    before = snapshot(tmp_path)
+    with pytest.raises(ValueError, match=f"out {link} is a symbolic link") as info:
+        _save(prediction, link)
+    assert "\n" not in str(info.value)
+    with pytest.raises(ValueError, match="is a symbolic link"):  # walk3d.predict: before a solve
+        walk3d.predict(1.3, out=link)
+    one_line_error(cli(capsys, "predict", "--out", link, "--nodes", "1"), "symbolic link")
+    assert snapshot(tmp_path) == before and link.is_symlink()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b3", "link"]  # no .tmp_old_link_*
+    assert (_save(prediction, earlier) / "manifest.json").is_file()

@@ -150,6 +150,34 @@ def test_a_bad_threshold_is_one_line_naming_it(pred_dir, tmp_path, falisse, valu
         assert _run(*args, "--threshold", "20", "--out", tmp_path / "v").returncode == 0
 
 
+@pytest.mark.parametrize(
+    ("forward", "words"),
+    [("up", "forward axis must be one of +x, -x, +y, -y, +z, -z, got 'up'"),
+     ("-y", "forward '-y' is the walking direction in C3D references, and none is given")],
+)  # fmt: skip
+def test_forward_without_a_c3d_reference_is_refused(pred_dir, tmp_path, falisse, forward, words):
+    """--forward up with a cycle table was neither checked nor used (exit 0); a C3D reference
+    had it refused. Negative control: the same run without --forward validates."""
+    args = ["validate", pred_dir, "--reference", falisse / "cycle_right_leg_mean_sd.csv"]
+    _one_line_error(_run(*args, "--forward", forward, "--out", tmp_path / "v"), words)
+    assert not (tmp_path / "v").exists()
+    if forward == "up":  # the control, once
+        assert _run(*args, "--out", tmp_path / "v").returncode == 0
+
+
+def test_the_library_checks_forward_before_any_work(tmp_path):
+    """validate()'s own check, as the command's: an axis and a C3D reference, or no forward.
+    Negative control: those pass."""
+    from walk3d.validation.run import check_forward
+
+    for ok in ((None, ["t.csv"]), ("-y", ["t.csv", "walk.C3D"]), ("+x", [tmp_path / "w.c3d"])):
+        check_forward(*ok)
+    with pytest.raises(ValueError, match="got 'up'"):
+        check_forward("up", ["walk.c3d"])
+    with pytest.raises(ValueError, match="none is given"):
+        check_forward("+x", ["t.csv", "ik.mot"])
+
+
 def test_calibrate_bad_input(tmp_path, falisse):
     _one_line_error(
         _run("calibrate", "--ik", tmp_path / "no.mot", "--grf", falisse / "gait_1_grf.mot",

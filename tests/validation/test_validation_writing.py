@@ -109,3 +109,30 @@ def test_validate_refuses_an_earlier_validation_holding_a_file_of_the_user(
     code, err = _validate(capfd, pred_dir, "--reference", table, "--out", out)
     assert code == 0, err
     assert (out / "table2.csv").read_text() != "walk3d's" and not (out / "notes.txt").exists()
+
+
+@pytest.mark.parametrize("kind", ["link to an earlier validation", "dangling link", "folder"])
+def test_validate_refuses_an_out_that_is_a_symbolic_link(
+    synthetic_prediction, pred_dir, table, tmp_path, capfd, kind
+):
+    """--out linked to an earlier validation became a real folder, and the user's link was left
+    as .tmp_old_<name>_<hex> for ever; a dangling one failed after the work. Now it is refused
+    before any work, and the link kept. Negative control: the folder it points to validates."""
+    from walk3d.validation.run import validate
+
+    earlier = tmp_path / "earlier"
+    assert validate({"p": synthetic_prediction}, [table], earlier, figures=False).table2
+    link = tmp_path / "link"
+    link.symlink_to(earlier if kind.startswith("link") else tmp_path / "nothing")
+    out = earlier if kind == "folder" else link
+    code, err = _validate(capfd, pred_dir, "--reference", table, "--out", out)
+    if kind == "folder":
+        assert code == 0, err
+        return
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert f"--out {link} is a symbolic link" in err, err
+    before = snapshot(tmp_path)
+    with pytest.raises(ValueError, match="is a symbolic link"):  # the library refuses it too
+        validate({"p": synthetic_prediction}, [table], link)
+    assert snapshot(tmp_path) == before and link.is_symlink()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["earlier", "link"]

@@ -6,7 +6,8 @@ from typing import Annotated
 
 import typer
 
-from walk3d.cli.common import EXIT_WRITE, app, console, fail, warning_lines
+from walk3d.cli.common import EXIT_WRITE, app, console, fail
+from walk3d.cli.warning_lines import warning_lines
 from walk3d.model.terms import DEFAULT_PRESET
 
 atlas_app = typer.Typer(no_args_is_help=True, help="The atlas of walk3d's own solutions that "

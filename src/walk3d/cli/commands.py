@@ -49,8 +49,8 @@ from walk3d.cli.common import (
     paper_case,
     settings_from_options,
     start_text,
-    warned,
 )
+from walk3d.cli.warning_lines import warned
 from walk3d.model.terms import DEFAULT_PRESET
 
 

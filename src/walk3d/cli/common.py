@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import os
 import sys
-from collections.abc import Iterator
-from contextlib import contextmanager
 from typing import Annotated
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
@@ -168,17 +166,44 @@ HslLibrary = Annotated[
         rich_help_panel=SOLVER,
     ),
 ]
+
+
+def input_file(
+    ctx: typer.Context, param: typer.CallbackParam, value: str | list[str] | None
+) -> str | list[str] | None:
+    """Callback of an option or argument naming files to read: one that is a folder, FIFO,
+    socket or device (:func:`walk3d.io.checks.input_problem`; a FIFO blocked its reader for
+    ever) is refused in one line naming the option, exit code 2, before the command starts. A
+    missing file is left to the command's reader, which names it."""
+    from walk3d.io.checks import input_problem
+
+    if ctx.resilient_parsing:  # completion: nothing is read
+        return value
+    name = param.opts[0] if param.param_type_name == "option" else str(param.name)
+    for path in [value] if isinstance(value, str) else value or []:
+        why = input_problem(path)
+        if why:
+            fail(f"{name} {path}: {why}")
+    return value
+
+
 FromTrial = Annotated[
     str | None,
     typer.Option(
         "--from-trial",
         help="IK .mot of a measured trial: V, T and Td from it (needs --grf).",
         rich_help_panel=GAIT,
+        callback=input_file,
     ),
 ]
 TrialGrf = Annotated[
     str | None,
-    typer.Option("--grf", help="GRF .mot of the --from-trial trial.", rich_help_panel=GAIT),
+    typer.Option(
+        "--grf",
+        help="GRF .mot of the --from-trial trial.",
+        rich_help_panel=GAIT,
+        callback=input_file,
+    ),
 ]
 PlateThreshold = Annotated[
     float, typer.Option("--threshold", help="Force-plate contact threshold, N.")
@@ -192,6 +217,7 @@ CalibrationFile = Annotated[
         "--calibration",
         help="Calibration JSON (walk3d calibrate): roll-over, ratios.",
         rich_help_panel=MODEL,
+        callback=input_file,
     ),
 ]
 CompileLater = Annotated[
@@ -239,35 +265,6 @@ def positive_options(**values: float | None) -> None:
             positive_numbers(**{name: value})
         except ValueError as exc:
             fail(f"--{name.replace('_', '-')}{str(exc)[len(name) :]}")
-
-
-def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
-    sys.stderr.write(f"walk3d: warning: {' '.join(str(message).split())}\n")
-
-
-@contextmanager
-def warning_lines() -> Iterator[None]:
-    """In the block, each warning is printed once per place as it happens, as one line
-    (``walk3d: warning: ...``), not in Python's two-line form (a long run's, e.g. sweep's)."""
-    import warnings
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("default")
-        warnings.showwarning = _warning_line
-        yield
-
-
-def warned(func, *args, **kwargs):  # noqa: ANN001, ANN201 - passes func's result through
-    """``func(*args, **kwargs)`` with every warning it raises printed as one line
-    (``walk3d: warning: ...``) instead of Python's two-line form."""
-    import warnings
-
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        result = func(*args, **kwargs)
-    for w in caught:
-        sys.stderr.write(f"walk3d: warning: {' '.join(str(w.message).split())}\n")
-    return result
 
 
 def check_output_folder(
@@ -365,7 +362,7 @@ def settings_from_options(criterion: str, solver: str, seed: int, **fields):
     if settings.solver.linear_solver != "mumps" and solver == "ipopt":
         from walk3d.solve.options import linear_solver_error
 
-        problem = linear_solver_error(settings)
+        problem = linear_solver_error(settings, "--hsl-library")
         if problem:
             fail(problem)
     return settings

@@ -14,6 +14,7 @@ from walk3d.cli.common import (
     check_output_folder,
     console,
     fail,
+    input_file,
     scheduler_option,
 )
 from walk3d.model.terms import DEFAULT_PRESET
@@ -26,7 +27,10 @@ MAX_POPSIZE = 1000
 
 @app.command("fit-criterion", short_help="Fit criterion weights to measured trials (CMA-ES).")
 def fit_criterion(
-    trials: Annotated[str, typer.Argument(help="TOML file of the trials (docs/fitting.md).")],
+    trials: Annotated[
+        str,
+        typer.Argument(help="TOML file of the trials (docs/fitting.md).", callback=input_file),
+    ],
     out: Annotated[str, typer.Option("--out", help="Fit folder (created or resumed).")],
     parameter: Annotated[
         list[str],

@@ -24,8 +24,8 @@ from walk3d.cli.common import (
     console,
     fail,
     settings_from_options,
-    warning_lines,
 )
+from walk3d.cli.warning_lines import warning_lines
 from walk3d.model.terms import DEFAULT_PRESET
 
 

@@ -17,6 +17,7 @@ from walk3d.cli.common import (
     check_output_file,
     console,
     fail,
+    input_file,
     positive_options,
 )
 
@@ -24,10 +25,17 @@ from walk3d.cli.common import (
 @app.command(short_help="Track a measured gait inside walk3d's model.")
 def track(
     out: Annotated[str, typer.Option("--out", help="Result folder to write.")],
-    ik: Annotated[str | None, typer.Option("--ik", help="IK .mot of a measured trial.")] = None,
-    grf: Annotated[str | None, typer.Option("--grf", help="GRF .mot of the same trial.")] = None,
+    ik: Annotated[
+        str | None, typer.Option("--ik", help="IK .mot of a measured trial.", callback=input_file)
+    ] = None,
+    grf: Annotated[
+        str | None, typer.Option("--grf", help="GRF .mot of the same trial.", callback=input_file)
+    ] = None,
     table: Annotated[
-        str | None, typer.Option("--table", help="A cycle table (.csv) instead of a trial.")
+        str | None,
+        typer.Option(
+            "--table", help="A cycle table (.csv) instead of a trial.", callback=input_file
+        ),
     ] = None,
     mass: Mass = 68.8,
     height: Height = 1.77,

@@ -18,6 +18,7 @@ from walk3d.cli.common import (
     check_output_file,
     console,
     fail,
+    input_file,
     positive_options,
 )
 
@@ -30,6 +31,7 @@ def validate(
         typer.Option(
             "--reference",
             help="Cycle table .csv, trial IK/GRF/ID storages or C3D files (repeat).",
+            callback=input_file,
         ),
     ],
     out: Annotated[
@@ -101,8 +103,12 @@ def validate(
 
 @app.command(short_help="Fit the foot roll-over and transition ratios to a trial.")
 def calibrate(
-    ik: Annotated[str, typer.Option("--ik", help="IK .mot of a measured trial.")],
-    grf: Annotated[str, typer.Option("--grf", help="GRF .mot of the same trial.")],
+    ik: Annotated[
+        str, typer.Option("--ik", help="IK .mot of a measured trial.", callback=input_file)
+    ],
+    grf: Annotated[
+        str, typer.Option("--grf", help="GRF .mot of the same trial.", callback=input_file)
+    ],
     out: Annotated[str, typer.Option("--out", help="Calibration file to write (.json).")],
     mass: Mass = 68.8,
     height: Height = 1.77,

@@ -30,7 +30,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from walk3d.io.checks import read_toml
+from walk3d.io.checks import input_problem, read_toml
 from walk3d.io.errors import DataFileError
 
 __all__ = ["FitTrial", "read_trials"]
@@ -107,7 +107,10 @@ def read_trials(path: str | PathLike[str]) -> list[FitTrial]:
     if len(set(names)) != len(names):
         raise DataFileError(p, f"two trials share a name: {sorted(names)}")
     for t in trials:
-        missing = [str(f) for f in t.files() if not f.is_file()]
-        if missing:
-            raise DataFileError(p, f"trial {t.name}: no such file {missing[0]}")
+        for f in t.files():
+            if not f.exists():
+                raise DataFileError(p, f"trial {t.name}: no such file {f}")
+            why = input_problem(f)  # a FIFO would block its reader
+            if why:
+                raise DataFileError(p, f"trial {t.name}: {f} {why}")
     return trials

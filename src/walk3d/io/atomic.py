@@ -256,15 +256,25 @@ def signals_deferred() -> Iterator[None]:
             signal.raise_signal(sig)
 
 
+def _refuse_link(target: Path) -> None:
+    """Raise :class:`FileExistsError` if ``target`` is a symbolic link: renamed aside, the link
+    itself would be moved (and never removed), and the user's link replaced by a folder."""
+    if target.is_symlink():
+        raise FileExistsError(f"{target} is a symbolic link: walk3d does not replace a link "
+                              "with a folder")  # fmt: skip
+
+
 @contextmanager
 def atomic_folder(path: str | PathLike[str]) -> Iterator[Path]:
     """Build a folder in a temporary sibling ``.tmp_<name>_<random>``, then rename it to ``path``.
 
     On success an existing ``path`` is moved aside and removed just after the new folder takes
     its name, so a reader sees the old folder or the new one, never a partial one. On any
-    failure the temporary is deleted and ``path`` is left as it was.
+    failure the temporary is deleted and ``path`` is left as it was. A symbolic link at
+    ``path`` is never replaced: :class:`FileExistsError`, before the build and at the commit.
     """
     target = Path(path)
+    _refuse_link(target)
     tmp = temporary_sibling(target.parent, target.name)
     owner = tmp.with_name(tmp.name + OWNER_SUFFIX)
     owner.write_text(_owner_line(), encoding="ascii")
@@ -274,6 +284,7 @@ def atomic_folder(path: str | PathLike[str]) -> Iterator[Path]:
         yield tmp
         fsync_dir(tmp)
         with signals_deferred():  # the two renames and the old folder's removal: all or none
+            _refuse_link(target)  # made while the folder was built
             if target.exists():
                 old = _old_name(tmp)
                 os.rename(target, old)

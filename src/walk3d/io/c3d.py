@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from walk3d.io.checks import open_input
 from walk3d.io.errors import DataFileError
 from walk3d.io.trc import LENGTH_UNITS
 
@@ -111,7 +112,7 @@ def _raw_frames(path: Path) -> tuple[int, int] | None:
     Also walks the parameter section (:func:`_check_parameters`) so that a damaged one is
     refused here rather than sending ezc3d into an endless loop.
     """
-    with path.open("rb") as handle:
+    with open_input(path) as handle:
         head = handle.read(512)
         if len(head) < 512 or head[1] != 0x50 or head[0] < 1:
             raise DataFileError(path, "not a C3D file (bad header block)")
@@ -198,15 +199,14 @@ def read_c3d(path: str | PathLike[str], *, force_platforms: bool = True) -> C3dD
 
     Raises:
         FileNotFoundError: No such file.
-        DataFileError: Not a C3D file, unreadable parameters, unknown units, or fewer frames
-            than the header declares (truncated file).
+        DataFileError: Not a regular file (a folder, FIFO...), not a C3D file, unreadable
+            parameters, unknown units, or fewer frames than the header declares (truncated
+            file).
     """
     import ezc3d
 
     path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(path)
-    frames = _raw_frames(path)
+    frames = _raw_frames(path)  # FileNotFoundError, or a folder or FIFO refused
     try:
         c3d = ezc3d.c3d(str(path), extract_forceplat_data=False)
     except (RuntimeError, OSError, ValueError) as exc:

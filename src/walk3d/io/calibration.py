@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from walk3d.io.atomic import atomic_write_text
-from walk3d.io.checks import read_json_object
+from walk3d.io.checks import read_input, read_json_object
 from walk3d.io.errors import DataFileError
 from walk3d.model.calibrated import RATIO_NAMES, ratio_problem, rollover_problem
 
@@ -63,7 +63,7 @@ def read_calibration(path: str | PathLike[str]) -> dict[str, Any]:
     """
     path = Path(path)
     data = read_json_object(path, "calibration file")
-    text = path.read_text(encoding="utf-8-sig")
+    text = read_input(path).decode("utf-8-sig")
 
     def fail(reason: str, key: str | None = None) -> DataFileError:
         return DataFileError(path, reason, _line_of(text, key) if key else None)

@@ -12,11 +12,14 @@ import io
 import json
 import math
 import numbers
+import os
+import stat
 import xml.etree.ElementTree as ET
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
 from os import PathLike
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 import numpy as np
 
@@ -25,8 +28,12 @@ from walk3d.io.errors import DataFileError
 __all__ = [
     "finite_number",
     "increasing",
+    "input_problem",
     "plain_file_name",
+    "not_regular",
+    "open_input",
     "positive_numbers",
+    "read_input",
     "read_json_object",
     "read_npz",
     "read_xml",
@@ -35,11 +42,60 @@ __all__ = [
 ]
 
 
-def _read_bytes(path: Path) -> bytes:
+_KINDS = ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"), (stat.S_ISCHR, "a device"),
+          (stat.S_ISBLK, "a device"))  # fmt: skip
+
+
+def not_regular(mode: int) -> str | None:
+    """Why a file of ``st_mode`` ``mode`` is no input file, or None for a regular file:
+    ``is a folder, not a file`` or ``is not a regular file (a FIFO)`` (a socket, a device)."""
+    if stat.S_ISREG(mode):
+        return None
+    if stat.S_ISDIR(mode):
+        return "is a folder, not a file"
+    kind = next((name for test, name in _KINDS if test(mode)), "of an unknown kind")
+    return f"is not a regular file ({kind})"
+
+
+def input_problem(path: str | PathLike[str]) -> str | None:
+    """Why ``path`` cannot be read as an input file, without opening it: a folder, FIFO,
+    socket or device (:func:`not_regular`); None for a regular file (a link to one included)
+    and for nothing there, which its reader reports."""
     try:
-        return path.read_bytes()
-    except IsADirectoryError:
-        raise DataFileError(path, "is a folder, not a file") from None
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):  # missing, a NUL byte: the reader's error
+        return None
+    return not_regular(mode)
+
+
+@contextmanager
+def open_input(path: str | PathLike[str]) -> Iterator[BinaryIO]:
+    """The input file ``path`` (a link to one included) open for reading: every walk3d reader
+    opens its files here. It must be a regular file: a FIFO or a device would block the read
+    or never end it, so it is opened without blocking and refused before any read.
+
+    Raises:
+        FileNotFoundError: there is no such file.
+        DataFileError: a folder, FIFO, socket or device (one line naming the file).
+    """
+    path = Path(path)
+    why = not_regular(os.stat(path).st_mode)  # a socket cannot even be opened
+    if why is None:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+        why = not_regular(os.fstat(fd).st_mode)  # replaced since the stat
+        if why is None:
+            with os.fdopen(fd, "rb") as f:
+                yield f
+            return
+        os.close(fd)
+    raise DataFileError(path, why)
+
+
+def read_input(path: str | PathLike[str]) -> bytes:
+    """The bytes of the input file ``path`` (:func:`open_input`: FileNotFoundError, or one
+    DataFileError line for a folder, FIFO, socket or device)."""
+    with open_input(path) as f:
+        return f.read()
 
 
 def read_json_object(path: str | PathLike[str], what: str = "JSON file") -> dict[str, Any]:
@@ -50,7 +106,7 @@ def read_json_object(path: str | PathLike[str], what: str = "JSON file") -> dict
         DataFileError: not UTF-8, not valid JSON, nested too deep, or not a JSON object.
     """
     path = Path(path)
-    raw = _read_bytes(path)
+    raw = read_input(path)
     try:
         data = json.loads(raw.decode("utf-8-sig"))
     except UnicodeDecodeError:
@@ -93,7 +149,7 @@ def read_npz(path: str | PathLike[str], what: str = "NumPy .npz archive") -> dic
             NumPy or zipfile raised).
     """
     path = Path(path)
-    raw = _read_bytes(path)
+    raw = read_input(path)
     if not raw.startswith(b"PK\x03\x04"):
         raise DataFileError(path, f"not a {what}: the file is damaged or of another kind")
     try:
@@ -112,7 +168,7 @@ def read_xml(path: str | PathLike[str]) -> ET.ElementTree:
             encoding Python does not know.
     """
     path = Path(path)
-    raw = _read_bytes(path)
+    raw = read_input(path)
     try:
         return ET.ElementTree(ET.fromstring(raw))
     except ET.ParseError as exc:
@@ -189,7 +245,7 @@ def file_digest(path: str | PathLike[str]) -> str:
     """SHA-256 of a file's bytes, hex."""
     import hashlib
 
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    return hashlib.sha256(read_input(path)).hexdigest()
 
 
 def read_toml(path: str | PathLike[str]) -> dict:
@@ -197,11 +253,9 @@ def read_toml(path: str | PathLike[str]) -> dict:
     not TOML."""
     import tomllib
 
-    from walk3d.io.errors import DataFileError
-
     p = Path(path)
     try:
-        return tomllib.loads(p.read_text(encoding="utf-8"))
+        return tomllib.loads(read_input(p).decode("utf-8"))
     except OSError as exc:
         raise DataFileError(p, exc.strerror or str(exc)) from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:

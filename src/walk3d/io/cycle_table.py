@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from walk3d.io.checks import increasing
+from walk3d.io.checks import increasing, read_input
 from walk3d.io.errors import DataFileError
 
 __all__ = ["COVERAGE", "MAX_ABS_VALUE", "MIN_ROWS", "CycleTable", "read_cycle_table"]
@@ -209,7 +209,7 @@ def read_cycle_table(path: str | PathLike[str]) -> CycleTable:
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8-sig")
+        text = read_input(path).decode("utf-8-sig")
     except UnicodeDecodeError:
         raise DataFileError(path, "not a text file (invalid UTF-8)") from None
     rows, reader = [], csv.reader(text.splitlines())

@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from walk3d.io.atomic import atomic_write_text
-from walk3d.io.checks import increasing
+from walk3d.io.checks import increasing, read_input
 from walk3d.io.errors import DataFileError
 
 __all__ = ["Storage", "read_storage", "write_storage"]
@@ -176,14 +176,15 @@ def read_storage(path: str | PathLike[str], finite: bool = False) -> Storage:
 
     Raises:
         FileNotFoundError: The file does not exist.
-        DataFileError: The file is malformed or truncated: no ``endheader``, no column labels,
+        DataFileError: The file is not a regular file (a folder, FIFO...), or is malformed or
+            truncated: no ``endheader``, no column labels,
             duplicate labels, a row with the wrong number of values, a value that is not a
             number, or a row/column count that disagrees with ``nRows``/``nColumns``
             (``datarows``/``datacolumns``), a time that is not finite, fewer than 2 rows, or
             a time that does not strictly increase. The message names the file (and the line).
     """
     path = Path(path)
-    raw = path.read_bytes()
+    raw = read_input(path)
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

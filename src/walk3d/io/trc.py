@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from walk3d.io.checks import read_input
 from walk3d.io.errors import DataFileError
 
 __all__ = ["LENGTH_UNITS", "TrcData", "read_trc"]
@@ -82,7 +83,7 @@ def read_trc(path: str | PathLike[str]) -> TrcData:
     """
     path = Path(path)
     try:
-        lines = path.read_text(encoding="utf-8-sig").splitlines()
+        lines = read_input(path).decode("utf-8-sig").splitlines()
     except UnicodeDecodeError:
         raise DataFileError(path, "not a text file (invalid UTF-8)") from None
     if len(lines) < 5 or not lines[0].strip().lower().startswith("pathfiletype"):

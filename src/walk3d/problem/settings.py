@@ -179,6 +179,9 @@ class SolverSettings(SettingsGroup):
             (0 < self.loop_check_tolerance <= 0.05,
              f"loop check tolerance must be in (0, 0.05], got {self.loop_check_tolerance}"),
             (1 <= self.threads <= 64, f"threads must be in [1, 64], got {self.threads}"),
+            (self.hsl_library is None or self.linear_solver != "mumps",
+             "hsl_library is the library of an HSL linear_solver (ma27, ma57, ma77, ma86, ma97); "
+             "mumps, the default, needs none"),
             (1e-12 <= self.tol <= 1e-2, f"tol must be in [1e-12, 0.01], got {self.tol}"),
             (0 <= self.perturbation <= 0.5,
              f"perturbation must be in [0, 0.5], got {self.perturbation}"),
@@ -278,14 +281,19 @@ def flat_settings(values: dict[str, Any]) -> dict[str, Any]:
 def recorded_settings(summary: dict[str, Any]) -> dict[str, Any]:
     """The flat settings a ``summary.json`` dict records: its grouped ``settings``, or the
     flat ``inputs`` of a walk3d before the groups (less their ``seed`` and ``solver``, which
-    are not settings); {} when it records none."""
+    are not settings); {} when it records none. An ``hsl_library`` beside MUMPS, which an
+    earlier walk3d took and ignored, is read as None."""
     grouped_ = summary.get("settings")
-    if isinstance(grouped_, dict):
-        return flat_settings(grouped_)
     inputs = summary.get("inputs")
-    if isinstance(inputs, dict):
-        return {k: v for k, v in inputs.items() if k not in ("seed", "solver")}
-    return {}
+    if isinstance(grouped_, dict):
+        flat = flat_settings(grouped_)
+    elif isinstance(inputs, dict):
+        flat = {k: v for k, v in inputs.items() if k not in ("seed", "solver")}
+    else:
+        return {}
+    if flat.get("linear_solver", "mumps") == "mumps" and flat.get("hsl_library") is not None:
+        flat["hsl_library"] = None  # recorded, though MUMPS ignored it
+    return flat
 
 
 def first_error(exc: Exception) -> str:

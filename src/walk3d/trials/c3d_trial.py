@@ -49,7 +49,7 @@ from walk3d.io.errors import DataFileError
 from walk3d.io.storage import Storage
 from walk3d.io.trc import LENGTH_UNITS
 
-__all__ = ["PIG_ANGLES", "C3dTrial", "LabAxes", "lab_axes", "read_c3d_trial"]
+__all__ = ["PIG_ANGLES", "C3dTrial", "LabAxes", "lab_axes", "parse_axis", "read_c3d_trial"]
 
 PIG_ANGLES: tuple[tuple[str, int, str, float], ...] = (
     ("HipAngles", 0, "hip_flexion", 1.0),
@@ -111,7 +111,9 @@ def _unit(axis: int, sign: float) -> np.ndarray:
     return out
 
 
-def _parse_axis(text: str) -> np.ndarray:
+def parse_axis(text: str) -> np.ndarray:
+    """The lab axis ``text`` (``"+x"``, ``"-y"``, ``"z"``...) as a unit vector; ValueError (one
+    line) for any other text."""
     t = text.strip().lower()
     sign = -1.0 if t.startswith("-") else 1.0
     name = t.lstrip("+-")
@@ -192,7 +194,7 @@ def lab_axes(data: C3dData, forward: str | None = None) -> LabAxes:
 
     fwd, method = None, ""
     if forward is not None:
-        fwd, method = _horizontal(_parse_axis(forward), vertical), f"forward given as {forward}"
+        fwd, method = _horizontal(parse_axis(forward), vertical), f"forward given as {forward}"
         if fwd is None:
             raise ValueError(f"forward axis {forward!r} is the vertical axis of {data.path.name}")
     if fwd is None:

@@ -29,13 +29,15 @@ from typing import Any
 
 from walk3d.body.model import build_body
 from walk3d.io.atomic import atomic_folder, atomic_write_text
-from walk3d.io.checks import positive_numbers
+from walk3d.io.checks import input_problem, positive_numbers
 from walk3d.io.cycle_table import CycleTable, read_cycle_table
+from walk3d.io.errors import DataFileError
 from walk3d.io.storage import read_storage
 from walk3d.io.tables import write_csv_table
 from walk3d.outputs import check_output_folder, write_errors
 from walk3d.problem.settings import recorded_settings
 from walk3d.results.prediction import VALIDATION_FILES, PredictedCycle
+from walk3d.trials.c3d_trial import parse_axis
 from walk3d.trials.kinematics import kinematics_from_storage, kinematics_from_table
 from walk3d.trials.trial import Trial, classify_storage, load_c3d_trial, load_trial
 from walk3d.validation.compare import Comparison, compare, cycle_timing
@@ -45,8 +47,8 @@ from walk3d.validation.measured import GaitFit, fit_measured_gait
 from walk3d.validation.reference import Reference, reference_from_table, trial_reference
 from walk3d.validation.score import Score, score, score_json
 
-__all__ = ["VALIDATION_MARK", "Validation", "check_validation_folder", "load_references",
-           "sort_references", "table2_rows", "validate"]  # fmt: skip
+__all__ = ["VALIDATION_MARK", "Validation", "check_forward", "check_validation_folder",
+           "load_references", "sort_references", "table2_rows", "validate"]  # fmt: skip
 
 TABLE3_COLUMNS = ("source", "criterion", "component", "value", "percent", "unit")
 
@@ -94,8 +96,11 @@ def sort_references(paths: Sequence[str | PathLike[str]]) -> tuple[list[Path], l
     tables, storages, c3d = [], [], []
     for raw in paths:
         path = Path(raw)
-        if not path.is_file():
+        if not path.exists():
             raise FileNotFoundError(f"reference file not found: {path}")
+        why = input_problem(path)  # a FIFO would block its reader, after the other files
+        if why:
+            raise DataFileError(path, why)
         if path.suffix.lower() in (".csv", ".txt"):
             tables.append(path)
             continue
@@ -166,6 +171,18 @@ def _subject(pred: PredictedCycle) -> tuple[float, float, str, list[str]]:
     return mass, float(height), sex, notes
 
 
+def check_forward(forward: str | None, references: Sequence[str | PathLike[str]]) -> None:
+    """Refuse a ``forward`` that is no lab axis (:func:`walk3d.trials.c3d_trial.parse_axis`),
+    or one given without a C3D reference, which alone it applies to (it would be ignored):
+    ValueError, one line."""
+    if forward is None:
+        return
+    parse_axis(forward)
+    if not any(Path(r).suffix.lower() == ".c3d" for r in references):
+        raise ValueError(f"forward {forward!r} is the walking direction in C3D references, and "
+                         "none is given; leave it out")  # fmt: skip
+
+
 def load_references(
     references: Sequence[str | PathLike[str]],
     mass: float,
@@ -214,6 +231,7 @@ def validate(
     None). ValueError for a ``threshold`` or ``speed`` that is not a finite positive number,
     whatever the references, before any work."""
     positive_numbers(threshold=threshold, speed=speed)
+    check_forward(forward, references)
     if not predictions:
         raise ValueError("no prediction to validate")
     if out_dir is not None:
