@@ -111,7 +111,8 @@ class Prediction(PredictedCycle):
 
         Raises:
             ValueError: ``out_dir`` is an existing file or a folder of other files (as
-                ``walk3d predict --out``).
+                ``walk3d predict --out``), or ``animate`` and the summary's period is not the
+                span of ``time``.
             OSError: the folder could not be written (one line; nothing is left behind).
         """
         from walk3d.pipeline import write_result

@@ -25,8 +25,9 @@ def animate(
     a side view and a front view, each foot's ground reaction as an arrow from its centre of
     pressure (1 m per body weight) while loaded, CYCLES gait cycles, each a stride further on.
     Written aside and then moved into place (a deleted DIR/animation.mp4 is made again), and
-    listed in DIR's manifest. Exit code 2 for a folder that is not a complete
-    result or a bad --out, 3 if the video cannot be written (nothing is changed)."""
+    listed in DIR's manifest. Exit code 2 for a folder that is not a complete result (or whose
+    summary's period is not its time axis's span) or a bad --out, 3 if the video cannot be
+    written (nothing is changed)."""
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -37,6 +38,7 @@ def animate(
 
     from walk3d.io.errors import DataFileError
     from walk3d.outputs import write_errors
+    from walk3d.plots.animation import cycle_period
     from walk3d.plots.video import write_animation
     from walk3d.results.osim_model import prediction_body
     from walk3d.results.prediction import load_result
@@ -49,6 +51,7 @@ def animate(
     try:
         pred = load_result(folder, remade=(target.name,) if inside else ())
         body = prediction_body(pred)
+        cycle_period(pred)  # a summary period that is not the time axis's: refused before work
     except (OSError, DataFileError, ValueError, KeyError) as exc:
         fail(f"cannot animate {pred_dir}: {' '.join(str(exc).split())}")
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
