@@ -118,7 +118,7 @@ def test_a_summary_period_not_the_time_span_is_refused(atlas_result, period):
     """A damaged ``descriptors.period`` once sized the frame arrays (23 GB at 1e7, a hang at
     1e4, a TypeError at [1], a silently wrong video at 1e-6); now one ValueError line."""
     pred, body, _ = atlas_result
-    with pytest.raises(ValueError, match="descriptors.period .* is not the cycle's time span"):
+    with pytest.raises(ValueError, match="descriptors.period .* is not the cycle's period"):
         animation_frames(_with_period(pred, period), body, cycles=1, fps=5)
 
 

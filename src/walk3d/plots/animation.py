@@ -24,6 +24,7 @@ import numpy as np
 
 from walk3d.constants import G
 from walk3d.kinematics import quaternion
+from walk3d.results.period import summary_period
 
 if TYPE_CHECKING:
     from walk3d.body.model import BodyModel
@@ -127,9 +128,6 @@ def segment_landmarks(body: BodyModel) -> tuple[list[np.ndarray], list[list[tupl
 MAX_PERIOD_S = 10.0
 """The longest cycle animated: a longer time axis is not a gait cycle in seconds."""
 
-PERIOD_TOLERANCE = 1e-6
-"""Relative difference allowed between the summary's period and the time axis's span."""
-
 
 def _real(value: object) -> bool:
     return isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(
@@ -137,11 +135,10 @@ def _real(value: object) -> bool:
 
 
 def cycle_period(pred: PredictedCycle) -> float:
-    """The period the animation plays, s: the span of ``pred.time`` (a closed cycle), or one
-    sample step more when the summary's ``descriptors.period`` says the last sample is before T.
-    Raises ValueError (one line) for a summary period that is neither, or a span of no gait."""
-    t = pred.time - pred.time[0]
-    span = float(t[-1])
+    """The period the animation plays, s: the span of ``pred.time``, or one sample step more
+    when the summary's ``descriptors.period`` says so (:func:`summary_period`). Raises
+    ValueError (one line) for another summary period or a span of no gait cycle."""
+    span = float(pred.time[-1] - pred.time[0])
     if not (0.0 < span <= MAX_PERIOD_S):
         raise ValueError(f"the cycle's time axis spans {span:.6g} s, not a gait cycle "
                          f"(0-{MAX_PERIOD_S:g} s)")  # fmt: skip
@@ -150,14 +147,7 @@ def cycle_period(pred: PredictedCycle) -> float:
         return span
     if not isinstance(d, dict):
         raise ValueError("the summary's descriptors is not an object")
-    given = d["period"]
-    step = float(np.max(np.diff(t))) if t.size > 1 else 0.0
-    if _real(given) and abs(float(given) - span) <= PERIOD_TOLERANCE * span:
-        return span
-    if _real(given) and span < float(given) <= (span + step) * (1.0 + PERIOD_TOLERANCE):
-        return float(given)  # an open cycle: the sample at T (= the first) is not stored
-    raise ValueError(f"the summary's descriptors.period {given!r:.40} is not the cycle's time "
-                     f"span {span:.6g} s")  # fmt: skip
+    return summary_period(pred.time, d["period"], "descriptors.period")
 
 
 def _cycle_samples(pred: PredictedCycle) -> tuple[float, np.ndarray, np.ndarray]:
