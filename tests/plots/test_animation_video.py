@@ -132,3 +132,34 @@ def test_save_animate_refuses_a_bad_period_before_writing(atlas_result, tmp_path
     with pytest.raises(ValueError, match="descriptors.period"):
         bad.save(tmp_path / "s", animate=True, report=False)
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize(
+    ("label", "reason", "frame_text"),
+    [({"converged": False, "status": "Infeasible"},
+      "the solve did not converge (Infeasible): not a valid prediction", "NOT CONVERGED"),
+     ({"converged": True, "gait_checks": {"looks_like_walking": False}},
+      "the gait does not look like walking (summary gait_checks)", "DOES NOT LOOK LIKE WALKING")],
+)  # fmt: skip
+def test_a_result_that_is_not_a_valid_prediction_is_labelled(atlas_result, tmp_path, capsys,
+                                                            label, reason, frame_text):  # fmt: skip
+    """Was exit 0 with nothing said, and an unlabelled video; the exit code stays 0."""
+    from walk3d.plots.video import _Scene
+
+    def frame_texts(summary: dict) -> list[str]:
+        scene = _Scene(replace(pred, summary=summary), body, 1, 2)
+        return [t.get_text() for t in scene.canvas.figure.texts]
+
+    pred, body, folder = atlas_result
+    copy = Path(shutil.copytree(folder, tmp_path / "r"))
+    summary = json.loads((copy / "summary.json").read_text()) | label
+    replace_result_file(copy, "summary.json", json.dumps(summary).encode())
+    args = ("--cycles", 1, "--fps", 2)
+    code, _, err = cli(capsys, "animate", copy, "--out", tmp_path / "a.mp4", *args)
+    assert code == 0 and err.strip().splitlines() == [f"walk3d: warning: {copy}: {reason}"], err
+    assert any(frame_text in t for t in frame_texts(summary))
+    # negative control: a valid result is animated without a label or a warning
+    valid = {**summary, "converged": True, "gait_checks": {"looks_like_walking": True}}
+    assert not any("NOT" in t for t in frame_texts(valid))
+    code, _, err = cli(capsys, "animate", folder, "--out", tmp_path / "b.mp4", *args)
+    assert code == 0 and err == "", err
