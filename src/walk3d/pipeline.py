@@ -254,8 +254,10 @@ def write_result(
 
     Raises:
         ValueError: ``out_dir`` is an existing file or a folder of other files
-            (:func:`check_result_folder`), or ``animate`` and the summary's period is not the
-            time axis's (:func:`walk3d.plots.animation.cycle_period`); nothing is written.
+            (:func:`check_result_folder`), an array walk3d could not read back
+            (:func:`walk3d.results.readback.readable_arrays`), or ``animate`` and the summary's
+            period is not the time axis's (:func:`walk3d.plots.animation.cycle_period`);
+            nothing is written.
         OutputWriteError: the folder could not be written; nothing is left behind.
     """
     check_result_folder(out_dir)
