@@ -189,3 +189,23 @@ def test_plot_returns_a_figure_and_writes_a_png(prediction, tmp_path):
     fig = prediction.plot(tmp_path / "fig.png")
     assert len(fig.axes) >= 10
     assert (tmp_path / "fig.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("value", ["no", "yes", 1, None, False])
+def test_only_a_recorded_true_is_converged(prediction, value):
+    """``{"converged": "no"}`` was converged (bool() of a non-empty string)."""
+    from dataclasses import replace
+
+    assert not replace(prediction, summary={**prediction.summary, "converged": value}).converged
+    assert prediction.converged and prediction.summary["converged"] is True  # control
+
+
+def test_save_refuses_an_array_walk3d_could_not_read_back(prediction, tmp_path):
+    from dataclasses import replace
+
+    angle = prediction.joint_angle.copy()
+    angle[5, 3] = np.nan
+    with pytest.raises(ValueError, match=r"joint_angle holds non-finite values .* read it back"):
+        replace(prediction, joint_angle=angle).save(tmp_path / "s1")
+    assert not (tmp_path / "s1").exists()
+    walk3d.load_result(prediction.save(tmp_path / "s2", figure=False, report=False))  # control

@@ -52,8 +52,11 @@ class Prediction(PredictedCycle):
 
     @property
     def converged(self) -> bool:
-        """Whether the solve converged (``summary["converged"]``); False for an unlabelled one."""
-        return bool(self.summary.get("converged", False))
+        """Whether the solve converged: ``summary["converged"]`` is ``True`` itself (``"no"``
+        is not); False for an unlabelled one."""
+        from walk3d.results.labels import is_converged
+
+        return is_converged(self.summary)
 
     @property
     def descriptors(self) -> dict[str, Any]:
@@ -111,7 +114,9 @@ class Prediction(PredictedCycle):
 
         Raises:
             ValueError: ``out_dir`` is an existing file or a folder of other files (as
-                ``walk3d predict --out``).
+                ``walk3d predict --out``), an array walk3d could not read back (NaN or infinite
+                values, NaN centres of pressure aside), or ``animate`` and the summary's period
+                is not the span of ``time``; nothing is written.
             OSError: the folder could not be written (one line; nothing is left behind).
         """
         from walk3d.pipeline import write_result

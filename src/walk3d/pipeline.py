@@ -254,10 +254,17 @@ def write_result(
 
     Raises:
         ValueError: ``out_dir`` is an existing file or a folder of other files
-            (:func:`check_result_folder`); nothing is written.
+            (:func:`check_result_folder`), an array walk3d could not read back
+            (:func:`walk3d.results.readback.readable_arrays`), or ``animate`` and the summary's
+            period is not the time axis's (:func:`walk3d.plots.animation.cycle_period`);
+            nothing is written.
         OutputWriteError: the folder could not be written; nothing is left behind.
     """
     check_result_folder(out_dir)
+    if animate:
+        from walk3d.plots.animation import cycle_period
+
+        cycle_period(pred)  # refused before anything is written
 
     def add_figure(folder: Path) -> None:
         from walk3d.plots import summary_figure, write_animation

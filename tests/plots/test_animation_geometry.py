@@ -11,6 +11,9 @@ import pytest
 from walk3d import G
 from walk3d.plots.animation import animation_frames
 
+_TIME_FIELDS = ("segment_com_position", "segment_orientation", "joint_angle", "joint_moment",
+                "grf_force", "grf_cop", "grf_free_moment", "pelvis_position")  # fmt: skip
+
 
 @pytest.fixture(scope="module")
 def frames(atlas_result):
@@ -104,3 +107,33 @@ def test_bad_arguments(atlas_result):
         animation_frames(pred, body, cycles=0)
     with pytest.raises(ValueError):
         animation_frames(pred, body, fps=0.0)
+
+
+def _with_period(pred, period):
+    return replace(pred, summary={**pred.summary, "descriptors": {"period": period}})
+
+
+@pytest.mark.parametrize("period", [1e7, 1e4, [1], 1e-6, float("nan"), True, "1.0"])
+def test_a_summary_period_not_the_time_span_is_refused(atlas_result, period):
+    """A damaged ``descriptors.period`` once sized the frame arrays (23 GB at 1e7, a hang at
+    1e4, a TypeError at [1], a silently wrong video at 1e-6); now one ValueError line."""
+    pred, body, _ = atlas_result
+    with pytest.raises(ValueError, match="descriptors.period .* is not the cycle's period"):
+        animation_frames(_with_period(pred, period), body, cycles=1, fps=5)
+
+
+def test_the_period_is_the_time_span(atlas_result):
+    pred, body, _ = atlas_result
+    span = float(pred.time[-1] - pred.time[0])
+    # negative control of the refusals above: the span itself (written by walk3d), and an open
+    # cycle whose last sample is one step before T, are animated
+    assert animation_frames(_with_period(pred, span), body, cycles=1, fps=5).period == span
+    open_cycle = replace(_with_period(pred, span), time=pred.time[:-1],
+                         **{name: getattr(pred, name)[:-1] for name in _TIME_FIELDS})  # fmt: skip
+    assert animation_frames(open_cycle, body, cycles=1, fps=5).period == span
+
+
+def test_a_time_axis_of_no_gait_cycle_is_refused(atlas_result):
+    pred, body, _ = atlas_result
+    with pytest.raises(ValueError, match="not a gait cycle"):
+        animation_frames(replace(pred, time=pred.time * 1000.0), body, cycles=1, fps=5)

@@ -5,13 +5,18 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
+from dataclasses import replace
+from pathlib import Path
 
 import imageio.v2 as imageio
 import numpy as np
 import pytest
+from helpers import cli, one_line_error, replace_result_file
 
+import walk3d
 from walk3d.plots.video import FRAME_SIZE, write_animation
 
 FPS = 10
@@ -65,8 +70,6 @@ def test_cli_bad_input_one_line_exit_2(atlas_result, tmp_path, case):
 
 
 def test_cli_writes_into_the_folder_and_its_manifest(atlas_result, tmp_path):
-    import shutil
-
     from walk3d.results.prediction import check_complete
 
     folder = tmp_path / "result"
@@ -93,3 +96,70 @@ def test_cached_background_frames_equal_full_redraws(atlas_result):
     # control: another frame's drawing differs from this frame's in many pixels
     other = scene.frame(1).astype(int)
     assert np.any(np.abs(other - full) > 40, axis=-1).mean() > 5e-3
+
+
+def _period_folder(folder: Path, tmp_path: Path, period: object) -> Path:
+    """A copy of ``folder`` whose summary's descriptors.period is ``period`` (manifest kept)."""
+    copy = Path(shutil.copytree(folder, tmp_path / "r"))
+    summary = json.loads((copy / "summary.json").read_text())
+    summary["descriptors"] = {**summary.get("descriptors", {}), "period": period}
+    replace_result_file(copy, "summary.json", json.dumps(summary).encode())
+    return copy
+
+
+@pytest.mark.parametrize("period", [1e7, 1e4, [1], 1e-6])
+def test_cli_summary_period_not_the_time_span_one_line_exit_2(atlas_result, tmp_path, capsys,
+                                                             period):  # fmt: skip
+    """Was an OOM kill (1e7), a hang (1e4), a traceback ([1]), a wrong video (1e-6)."""
+    folder = _period_folder(atlas_result[2], tmp_path, period)
+    result = cli(capsys, "animate", folder, "--out", tmp_path / "a.mp4", "--fps", 5)
+    one_line_error(result, "descriptors.period", "time span")
+    assert not list(tmp_path.glob("**/*.mp4"))
+
+
+def test_cli_summary_period_equal_to_the_span_is_animated(atlas_result, tmp_path, capsys):
+    """Negative control: the span itself (as walk3d writes it) is accepted."""
+    pred, _, folder = atlas_result
+    folder = _period_folder(folder, tmp_path, float(pred.time[-1] - pred.time[0]))
+    code, _, err = cli(capsys, "animate", folder, "--out", tmp_path / "a.mp4", "--cycles", 1,
+                       "--fps", 5)  # fmt: skip
+    assert code == 0 and (tmp_path / "a.mp4").is_file(), err
+
+
+def test_save_animate_refuses_a_bad_period_before_writing(atlas_result, tmp_path):
+    pred = walk3d.Prediction.of(atlas_result[0])
+    bad = replace(pred, summary={**pred.summary, "descriptors": {"period": 1e7}})
+    with pytest.raises(ValueError, match="descriptors.period"):
+        bad.save(tmp_path / "s", animate=True, report=False)
+    assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize(
+    ("label", "reason", "frame_text"),
+    [({"converged": False, "status": "Infeasible"},
+      "the solve did not converge (Infeasible): not a valid prediction", "NOT CONVERGED"),
+     ({"converged": True, "gait_checks": {"looks_like_walking": False}},
+      "the gait does not look like walking (summary gait_checks)", "DOES NOT LOOK LIKE WALKING")],
+)  # fmt: skip
+def test_a_result_that_is_not_a_valid_prediction_is_labelled(atlas_result, tmp_path, capsys,
+                                                            label, reason, frame_text):  # fmt: skip
+    """Was exit 0 with nothing said, and an unlabelled video; the exit code stays 0."""
+    from walk3d.plots.video import _Scene
+
+    def frame_texts(summary: dict) -> list[str]:
+        scene = _Scene(replace(pred, summary=summary), body, 1, 2)
+        return [t.get_text() for t in scene.canvas.figure.texts]
+
+    pred, body, folder = atlas_result
+    copy = Path(shutil.copytree(folder, tmp_path / "r"))
+    summary = json.loads((copy / "summary.json").read_text()) | label
+    replace_result_file(copy, "summary.json", json.dumps(summary).encode())
+    args = ("--cycles", 1, "--fps", 2)
+    code, _, err = cli(capsys, "animate", copy, "--out", tmp_path / "a.mp4", *args)
+    assert code == 0 and err.strip().splitlines() == [f"walk3d: warning: {copy}: {reason}"], err
+    assert any(frame_text in t for t in frame_texts(summary))
+    # negative control: a valid result is animated without a label or a warning
+    valid = {**summary, "converged": True, "gait_checks": {"looks_like_walking": True}}
+    assert not any("NOT" in t for t in frame_texts(valid))
+    code, _, err = cli(capsys, "animate", folder, "--out", tmp_path / "b.mp4", *args)
+    assert code == 0 and err == "", err

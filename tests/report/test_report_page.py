@@ -104,6 +104,17 @@ def test_a_non_converged_solve_is_labelled_clearly(evaluated, tmp_path):
     assert re.search(r'class="banner bad">NOT CONVERGED \(Maximum_Iterations_Exceeded\)', page)
 
 
+@pytest.mark.parametrize(("value", "banner"), [("no", "bad"), (True, "ok"), (None, "bad")])
+def test_only_a_recorded_true_is_converged_on_the_page(value, banner):
+    """``"converged": "no"`` was bannered "Convergence not recorded"; True is the control."""
+    from walk3d.report.prediction_page import status_banners
+
+    first = status_banners({"converged": value, "status": "S"})[0]
+    assert f'class="banner {banner}"' in first
+    assert ("NOT CONVERGED" in first) == (banner == "bad")
+    assert "not recorded" in status_banners({})[0]  # no solve recorded: not called failed
+
+
 def test_the_page_is_self_contained_and_the_check_finds_external_links(result_folder):
     page = prediction_page(load_result(result_folder), result_folder, NO_DATA)
     assert external_references(page) == []

@@ -146,3 +146,29 @@ def test_compare_on_a_full_disk_exits_3_and_removes_only_what_it_created(pred, t
     assert _compare_cli(capsys, a, b, tmp_path / "new" / "deeper" / "cmp")[0] == 0
     assert sorted(p.name for p in (tmp_path / "new" / "deeper" / "cmp").iterdir()) == [
         "compare.csv", "compare.png", "report.html"]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("label", "words"),
+    [({"converged": False, "status": "Maximum_Iterations_Exceeded"}, "did not converge"),
+     ({"gait_checks": {"looks_like_walking": False}}, "does not look like walking")],
+)  # fmt: skip
+def test_cli_names_and_marks_a_result_that_is_not_a_valid_prediction(pred, tmp_path, capsys,
+                                                                    label, words):  # fmt: skip
+    """Was exit 0 with neither the console nor report.html saying so; the exit code stays."""
+    import walk3d
+
+    good, bad = tmp_path / "good", tmp_path / "bad"
+    walk3d.Prediction.of(pred).save(good, figure=False, report=False)
+    labelled = replace(pred, summary={**pred.summary, **label})
+    walk3d.Prediction.of(labelled).save(bad, figure=False, report=False)
+    code, err = _compare_cli(capsys, bad, good, tmp_path / "cmp")
+    lines = err.strip().splitlines()
+    assert code == 0 and len(lines) == 1 and lines[0].startswith(f"walk3d: warning: {bad}: ")
+    assert words in lines[0], err
+    page = (tmp_path / "cmp" / "report.html").read_text(encoding="utf-8")
+    assert f"A = bad: the {'solve' if 'converge' in words else 'gait'}" in page and words in page
+    # negative control: two valid results, no warning and no banner
+    code, err = _compare_cli(capsys, good, good, tmp_path / "cmp2")
+    assert code == 0 and err == "", err
+    assert words not in (tmp_path / "cmp2" / "report.html").read_text(encoding="utf-8")

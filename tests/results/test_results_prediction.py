@@ -1,8 +1,10 @@
 """Result folders: PredictedCycle save/load round trip, OpenSim files and the summary figure."""
 
 import json
+import re
 import shutil
 import xml.etree.ElementTree as ET
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -342,3 +344,29 @@ def test_a_result_npz_swapped_between_folders_is_refused(saved, tmp_path):
         check_complete(a)
     with pytest.raises(DataFileError, match="SHA-256"):
         load_result(a)
+
+
+@pytest.mark.parametrize(
+    ("name", "index", "value", "words"),
+    [("joint_angle", (5, 3), np.nan, "joint_angle holds non-finite values (1, the first nan"),
+     ("grf_cop", (0, 0, 0), np.inf, "grf_cop holds non-finite values (1, the first inf"),
+     ("pelvis_position", (3, 1), -np.inf, "pelvis_position holds non-finite"),
+     ("time", (4,), 0.0, "time is not increasing")],
+)  # fmt: skip
+def test_save_refuses_what_load_would_refuse(saved, tmp_path, name, index, value, words):
+    """``replace(p, joint_angle=<a NaN>).save()`` succeeded and load_result then refused it."""
+    pred = saved[0]
+    arr = getattr(pred, name).copy()
+    arr[index] = value
+    with pytest.raises(ValueError, match=re.escape(words)) as info:
+        save_prediction(replace(pred, **{name: arr}), tmp_path / "r")
+    assert "\n" not in str(info.value) and "could not read it back" in str(info.value)
+    assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_what_save_accepts_loads_back(saved, tmp_path):
+    """Negative control: NaN centres of pressure in swing are saved and read back."""
+    pred = saved[0]
+    assert np.isnan(pred.grf_cop).any()
+    back = load_result(save_prediction(pred, tmp_path / "r"))
+    np.testing.assert_array_equal(np.isnan(back.grf_cop), np.isnan(pred.grf_cop))

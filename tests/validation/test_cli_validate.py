@@ -4,7 +4,7 @@ import subprocess
 import sys
 
 import pytest
-from helpers import storage_with_nan
+from helpers import replace_result_file, storage_with_nan
 from validation_support import cli_env
 
 from walk3d.results.prediction import save_prediction
@@ -219,3 +219,52 @@ def test_validate_writes_tables_and_figures(pred_dir, tmp_path, falisse):
         "group,quantity,label,unit,status,n_cycles,reference_sd,reference_range,"
         "rmse,rmse_of_range,r,r2"
     )
+
+
+def test_a_non_finite_recorded_period_is_one_line(pred_dir, tmp_path, falisse):
+    """``settings.gait.period: Infinity`` printed two RuntimeWarnings and "array of sample
+    points is empty"; the same folder with its own period validates (negative control)."""
+    import json
+    import shutil
+
+    bad = shutil.copytree(pred_dir, tmp_path / "p")
+    summary = json.loads((bad / "summary.json").read_text())
+    summary["settings"]["gait"]["period"] = float("inf")
+    replace_result_file(bad, "summary.json", json.dumps(summary).encode())
+    table = falisse / "cycle_right_leg_mean_sd.csv"
+    r = _run("validate", bad, "--reference", table, "--out", tmp_path / "v")
+    _one_line_error(r, "settings.gait.period inf", "not the cycle's period")
+    assert not (tmp_path / "v").exists()
+    r = _run("validate", pred_dir, "--reference", table, "--out", tmp_path / "v")
+    assert r.returncode == 0 and "Warning" not in r.stderr, r.stderr
+
+
+def _labelled(pred_dir, tmp_path, **values):
+    import json
+    import shutil
+
+    folder = shutil.copytree(pred_dir, tmp_path / "p")
+    summary = json.loads((folder / "summary.json").read_text()) | values
+    replace_result_file(folder, "summary.json", json.dumps(summary).encode())
+    return folder
+
+
+def test_a_result_that_did_not_converge_is_named_with_the_scores_reason(pred_dir, tmp_path,
+                                                                       falisse):  # fmt: skip
+    """Was "ok" on every row and "score 10.000" without the reason, no warning; exit stays 0."""
+    table = falisse / "cycle_right_leg_mean_sd.csv"
+    bad = _labelled(pred_dir, tmp_path, converged=False, status="Maximum_Iterations_Exceeded",
+                    gait_checks={"looks_like_walking": True})  # fmt: skip
+    r = _run("validate", bad, "--reference", table, "--out", tmp_path / "v")
+    assert r.returncode == 0, r.stderr
+    assert r.stderr.strip().splitlines() == [
+        f"walk3d: warning: {bad}: the solve did not converge (Maximum_Iterations_Exceeded): "
+        "not a valid prediction"]  # fmt: skip
+    assert "(NOT CONVERGED)" in r.stdout
+    assert "score 10.000 (failed: did not converge (Maximum_Iterations_Exceeded)" in r.stdout
+    # negative control: the same folder converged and walking is neither warned nor failed
+    good = _labelled(pred_dir, tmp_path / "g", converged=True,
+                     gait_checks={"looks_like_walking": True})  # fmt: skip
+    r = _run("validate", good, "--reference", table, "--out", tmp_path / "w")
+    assert r.returncode == 0 and "warning" not in r.stderr, r.stderr
+    assert "failed" not in r.stdout and "NOT CONVERGED" not in r.stdout

@@ -190,3 +190,32 @@ def test_a_constant_column_is_not_ok_but_says_why(synthetic_prediction, falisse,
             assert row.status == "constant prediction", row.quantity.key
     assert comp.row("angle:knee_flexion").status == "ok"
     assert compare(synthetic_prediction, ref).row("angle:knee_flexion").status == "ok"
+
+
+def _with_gait(pred, **gait):
+    from dataclasses import replace
+
+    settings = pred.summary["settings"]
+    summary = {**pred.summary, "settings": {**settings, "gait": {**settings["gait"], **gait}}}
+    return replace(pred, summary=summary)
+
+
+@pytest.mark.parametrize("period", [float("inf"), float("nan"), 1e7, 1e-6, "x", [1], True])
+def test_a_recorded_period_that_is_not_the_time_span_is_refused(synthetic_prediction, period):
+    """Infinity once gave two RuntimeWarnings and "array of sample points is empty"."""
+    with pytest.raises(ValueError, match=r"settings\.gait\.period .* is not the cycle's period"):
+        cycle_timing(_with_gait(synthetic_prediction, period=period))
+
+
+@pytest.mark.parametrize("td", [float("inf"), float("nan"), -0.1, 5.0, "x"])
+def test_a_bad_recorded_double_support_is_refused(synthetic_prediction, td):
+    with pytest.raises(ValueError, match=r"settings\.gait\.double_support .* is not a duration"):
+        cycle_timing(_with_gait(synthetic_prediction, double_support=td))
+
+
+def test_the_recorded_period_is_the_time_span(synthetic_prediction):
+    """Negative control of the two refusals above: walk3d's own summary is accepted."""
+    span = float(synthetic_prediction.time[-1] - synthetic_prediction.time[0])
+    gait = synthetic_prediction.summary["settings"]["gait"]
+    assert gait["period"] == pytest.approx(span, rel=1e-12)
+    assert cycle_timing(_with_gait(synthetic_prediction, period=span))[0] == span

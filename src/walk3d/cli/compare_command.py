@@ -34,8 +34,10 @@ def compare(
     and ankle angles (deg) and moments (N·m/kg), both sides: each one's range over the cycle
     and the RMS and largest change, sample by sample. With --out, the table of every DoF's
     angle and moment as compare.csv, a figure of both over the cycle as compare.png, and both
-    in report.html. Exit code 2 for a folder that is not a result or two results that do not
-    compare, 3 if --out cannot be written."""
+    in report.html. A result that did not converge or does not walk is named in a warning line
+    and marked in report.html. Exit code 2 for a folder that is not a result or two results
+    that do not compare, 3 if --out cannot be written."""
+    from walk3d.cli.labels import warn_if_invalid
     from walk3d.io.atomic import atomic_write_text
     from walk3d.io.errors import DataFileError, OutputWriteError
     from walk3d.io.tables import write_csv_table
@@ -71,6 +73,8 @@ def compare(
                       f"{r['b_min']:.3g}/{r['b_max']:.3g}",
                       f"{r['rms_change']:.2g}/{r['largest_change']:+.2g}")  # fmt: skip
     console.print(t)
+    for name, pred in zip((dir_a, dir_b), preds, strict=True):
+        warn_if_invalid(name, pred.summary)
     if out is None:
         return
     folder, labels = Path(out), (Path(dir_a).name, Path(dir_b).name)
@@ -82,7 +86,12 @@ def compare(
         ):
             write_csv_table(tmp / "compare.csv", COLUMNS, rows)
             compare_figure(*preds, tmp / "compare.png", labels=labels)
-            page = compare_page(rows, (tmp / "compare.png").read_bytes(), labels)
+            page = compare_page(
+                rows,
+                (tmp / "compare.png").read_bytes(),
+                labels,
+                (preds[0].summary, preds[1].summary),
+            )
             atomic_write_text(tmp / "report.html", page)
     except OutputWriteError as exc:
         fail(str(exc), code=EXIT_WRITE)

@@ -46,10 +46,13 @@ def validate(
 ) -> None:
     """Compare a prediction with measured walking: Table 2 (RMSE and r per quantity), Table 3
     (criteria and their x/y/z split) and figures, written to --out all together, in place of
-    an earlier validation there. Exit code 2 for bad input (also an --out that is a file or a
-    folder holding files walk3d did not write), 3 if the folder cannot be written (nothing is
-    changed)."""
+    an earlier validation there. A prediction that did not converge or does not walk is named
+    in a warning line, and its score's failure printed. Exit code 2 for bad input (also an
+    --out that is a file or a folder holding files walk3d did not write), 3 if the folder
+    cannot be written (nothing is changed)."""
+    from walk3d.cli.labels import warn_if_invalid
     from walk3d.io.errors import DataFileError, OutputWriteError
+    from walk3d.results.labels import did_not_converge
     from walk3d.results.prediction import VALIDATION_FOLDER, load_result
     from walk3d.validation.run import check_validation_folder
     from walk3d.validation.run import validate as run
@@ -75,7 +78,9 @@ def validate(
         fail(str(exc), code=EXIT_WRITE)
     except (OSError, DataFileError, ValueError, KeyError) as exc:
         fail(" ".join(str(exc).split()))
-    console.print(table2(v, f"Table 2: {pred_dir} vs {v.reference.name}"))
+    reason = warn_if_invalid(pred_dir, pred.summary)
+    mark = " (NOT CONVERGED)" if did_not_converge(pred.summary) else " (NOT WALKING)"
+    console.print(table2(v, f"Table 2: {pred_dir} vs {v.reference.name}{mark if reason else ''}"))
     figs = v.score.figures if v.score is not None else {}
     if "knee_loading_peak_deg" in figs:
         console.print(
@@ -83,7 +88,10 @@ def validate(
             f"measured {figs['knee_loading_peak_measured_deg']:.1f} deg",
             markup=False,
         )
-    if v.score is not None:
+    if v.score is not None and v.score.failed is not None:
+        console.print(f"score {v.score.total:.3f} (failed: {v.score.failed}; score.json)",
+                      markup=False)  # fmt: skip
+    elif v.score is not None:
         console.print(f"score {v.score.total:.3f} (the yardstick's errors over their bars, "
                       "1 = at the bar; score.json)", markup=False)  # fmt: skip
     if v.table3:

@@ -16,6 +16,7 @@ so every segment stays rigid.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -23,12 +24,13 @@ import numpy as np
 
 from walk3d.constants import G
 from walk3d.kinematics import quaternion
+from walk3d.results.period import summary_period
 
 if TYPE_CHECKING:
     from walk3d.body.model import BodyModel
     from walk3d.results.prediction import PredictedCycle
 
-__all__ = ["AnimationFrames", "animation_frames", "segment_landmarks"]
+__all__ = ["AnimationFrames", "animation_frames", "cycle_period", "segment_landmarks"]
 
 LOADED_FRACTION = 0.01
 """A foot is loaded (its arrow drawn) between two samples whose vertical force exceeds this
@@ -123,15 +125,37 @@ def segment_landmarks(body: BodyModel) -> tuple[list[np.ndarray], list[list[tupl
     return marks, sticks
 
 
+MAX_PERIOD_S = 10.0
+"""The longest cycle animated: a longer time axis is not a gait cycle in seconds."""
+
+
+def _real(value: object) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(
+        float(value))  # fmt: skip
+
+
+def cycle_period(pred: PredictedCycle) -> float:
+    """The period the animation plays, s: the span of ``pred.time``, or one sample step more
+    when the summary's ``descriptors.period`` says so (:func:`summary_period`). Raises
+    ValueError (one line) for another summary period or a span of no gait cycle."""
+    span = float(pred.time[-1] - pred.time[0])
+    if not (0.0 < span <= MAX_PERIOD_S):
+        raise ValueError(f"the cycle's time axis spans {span:.6g} s, not a gait cycle "
+                         f"(0-{MAX_PERIOD_S:g} s)")  # fmt: skip
+    d = pred.summary.get("descriptors")
+    if d is None or (isinstance(d, dict) and "period" not in d):
+        return span
+    if not isinstance(d, dict):
+        raise ValueError("the summary's descriptors is not an object")
+    return summary_period(pred.time, d["period"], "descriptors.period")
+
+
 def _cycle_samples(pred: PredictedCycle) -> tuple[float, np.ndarray, np.ndarray]:
     """The period, the sample times of one closed cycle ``[t0, t0 + T]`` and the indices of
     the samples used (the first one repeated, moved a stride on, if the last is not at T)."""
     t = pred.time - pred.time[0]
-    d = pred.summary.get("descriptors") or {}
-    period = float(d.get("period", t[-1])) if isinstance(d, dict) else float(t[-1])
-    if not (math.isfinite(period) and period > 0.0):
-        raise ValueError("the prediction has no positive period")
-    if abs(t[-1] - period) <= 1e-6 * period:
+    period = cycle_period(pred)
+    if period == float(t[-1]):
         return period, t, np.arange(t.size)
     return period, np.append(t, period), np.append(np.arange(t.size), 0)
 
@@ -140,8 +164,10 @@ def _stride(pred: PredictedCycle, period: float, closed: bool) -> np.ndarray:
     if closed:
         return pred.pelvis_position[-1] - pred.pelvis_position[0]
     d = pred.summary.get("descriptors") or {}
-    speed = float(d.get("speed", 0.0)) if isinstance(d, dict) else 0.0
-    return np.array([speed * period, 0.0, 0.0])
+    speed = d.get("speed", 0.0) if isinstance(d, dict) else 0.0
+    if not _real(speed):
+        raise ValueError(f"the summary's descriptors.speed {speed!r:.40} is not a number")
+    return np.array([float(speed) * period, 0.0, 0.0])
 
 
 def animation_frames(
@@ -155,7 +181,8 @@ def animation_frames(
     """The geometry of ``round(cycles * T * fps)`` frames at real speed (see the module doc).
 
     Raises:
-        ValueError: ``cycles`` or ``fps`` is not positive, or the prediction has no period.
+        ValueError: ``cycles`` or ``fps`` is not positive, or the prediction's period is not
+            its time axis's (:func:`cycle_period`).
     """
     if cycles < 1 or not (math.isfinite(fps) and fps > 0.0):
         raise ValueError(f"cycles must be >= 1 and fps > 0, got {cycles} and {fps}")

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import errno
 import math
+import numbers
 import os
 import re
 from collections.abc import Callable, Iterable, Iterator
@@ -24,6 +25,7 @@ import numpy as np
 
 from walk3d.io.atomic import atomic_path
 from walk3d.plots.animation import AnimationFrames, animation_frames
+from walk3d.results.labels import did_not_converge, invalid_reason
 
 if TYPE_CHECKING:
     from walk3d.body.model import BodyModel
@@ -159,11 +161,17 @@ class _Scene:
         self.ground = _ground(ax3, side, front, frames, body.height)
         self.cols, self.arrows = _collections(ax3, side, front, frames)
         d = pred.summary.get("descriptors") or {}
+        speed = d.get("speed") if isinstance(d, dict) else None
         head = "walk3d prediction"
-        if isinstance(d, dict) and "speed" in d:
-            head += f": V = {float(d['speed']):.2f} m/s, T = {frames.period:.3f} s"
+        if isinstance(speed, numbers.Real) and not isinstance(speed, bool) and math.isfinite(
+                speed):  # fmt: skip
+            head += f": V = {float(speed):.2f} m/s, T = {frames.period:.3f} s"
         fig.suptitle(f"{head}; arrows: ground reaction, 1 m = body weight", fontsize=10,
                      x=0.02, ha="left")  # fmt: skip
+        if invalid_reason(pred.summary) is not None:  # in every frame, as report.html's banner
+            label = ("NOT CONVERGED: not a valid prediction" if did_not_converge(pred.summary)
+                     else "DOES NOT LOOK LIKE WALKING (gait checks)")  # fmt: skip
+            fig.text(0.02, 0.9, label, fontsize=10, color="#d33a2c", fontweight="bold")
         self.clock = _moving(fig.text(0.98, 0.98, "", fontsize=10, ha="right", va="top"))
         self.moving = [*self.ground[:2], *(a for c in self.cols for a in c[1:]),
                        *(a for arrow in self.arrows for a in arrow), self.clock]  # fmt: skip

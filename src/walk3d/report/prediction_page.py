@@ -18,6 +18,7 @@ from walk3d.problem.settings import recorded_settings
 from walk3d.report import html as h
 from walk3d.report.norms import Norms
 from walk3d.report.tracking_page import tracking_sections
+from walk3d.results.labels import did_not_converge, is_converged
 from walk3d.results.prediction import PredictedCycle
 from walk3d.validation.compare import align_prediction
 from walk3d.validation.quantities import GROUP_UNITS, QUANTITIES
@@ -50,10 +51,10 @@ def _get(d: object, *path: str) -> object:
 def status_banners(summary: dict) -> list[str]:
     """The convergence banner (a failed solve in red) and a warning for a non-walking gait."""
     out = []
-    converged, status = summary.get("converged"), summary.get("status", "unknown status")
-    if converged is True:
+    status = summary.get("status", "unknown status")
+    if is_converged(summary):
         out.append(h.note(f"Converged ({status}).", "ok"))
-    elif converged is False:
+    elif did_not_converge(summary):  # False, or any other recorded value ("no")
         out.append(h.note(f"NOT CONVERGED ({status}): this is not a valid prediction; the page "
                           "shows the solver's last iterate.", "bad"))  # fmt: skip
     else:

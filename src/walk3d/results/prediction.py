@@ -62,6 +62,7 @@ from walk3d.results.inverse_dynamics import write_inverse_dynamics
 from walk3d.results.lab_trial import write_markers_c3d
 from walk3d.results.opensim import write_grf, write_motion
 from walk3d.results.osim_model import motion_extent, osim_model, prediction_body
+from walk3d.results.readback import readable_arrays
 
 __all__ = [
     "C3D_FILES",
@@ -245,20 +246,21 @@ def save_prediction(
     extra: Callable[[Path], object] | None = None,
     body: BodyModel | None = None,
 ) -> Path:
-    """Write the result folder of ``pred`` (see the module doc) as one atomic step; ``body``
-    is the body model it was evaluated with (default: rebuilt from its settings).
+    """Write the result folder of ``pred`` (see the module doc) as one atomic step and return
+    it; ``body`` is the body model it was evaluated with (default: rebuilt from its settings).
 
     The files are built in a temporary sibling folder; ``extra(folder)`` may add more (the
     summary figure); ``manifest.json`` is written last and the folder is then renamed to
     ``out_dir``, replacing an earlier result. On any failure nothing is left behind.
 
-    Returns:
-        The result folder.
+    Raises:
+        ValueError: an array :func:`load_result` would refuse (non-finite, time not a cycle).
     """
     out = Path(out_dir)
+    arrays = readable_arrays(_npz_arrays(pred), out)  # refused before anything is written
     with atomic_folder(out) as tmp:
         buffer = io.BytesIO()
-        np.savez(buffer, **_npz_arrays(pred))
+        np.savez(buffer, **arrays)
         atomic_write_bytes(tmp / "result.npz", buffer.getvalue())
         text = json.dumps(pred.summary, indent=2, sort_keys=True, default=_json_default)
         atomic_write_text(tmp / "summary.json", text + "\n")

@@ -5,7 +5,8 @@ starts at right toe off (:mod:`walk3d.contact.phases`): right heel strike is at
 ``t_hs = T/2 - Td``. The prediction, periodic by construction, is therefore read at
 ``t = (t_hs + p T / 100) mod T`` for ``p = 0, 1, ..., 100`` (101 samples, the two ends being the
 same instant), with linear interpolation between its time nodes. ``T`` and ``Td`` come from the
-settings the prediction's summary records (:func:`walk3d.problem.settings.recorded_settings`);
+settings the prediction's summary records (:func:`walk3d.problem.settings.recorded_settings`),
+refused unless T is the span of ``pred.time`` (:func:`walk3d.results.period.summary_period`);
 without them, ``T`` is the span of ``pred.time`` and the heel
 strike is where the right foot's vertical force first rises above 20 N.
 
@@ -18,11 +19,13 @@ prediction`` and NaN scores, never dropped; one whose r or R² cannot be compute
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
 from walk3d.problem.settings import recorded_settings
+from walk3d.results.period import summary_period
 from walk3d.results.prediction import PredictedCycle
 from walk3d.trials.events import detect_contacts
 from walk3d.validation.quantities import QUANTITIES, Quantity, prediction_series
@@ -101,13 +104,21 @@ def r_squared(p: np.ndarray, m: np.ndarray) -> float:
 
 
 def cycle_timing(pred: PredictedCycle) -> tuple[float, float]:
-    """``(T, t_hs)``: the period and the right heel-strike time of a prediction (module doc)."""
+    """``(T, t_hs)``: the period and the right heel-strike time of a prediction (module doc).
+    Raises ValueError (one line) for a recorded T that is not its time span, or a bad Td."""
     inputs = recorded_settings(pred.summary) if isinstance(pred.summary, dict) else {}
     period, td = inputs.get("period"), inputs.get("double_support")
-    if isinstance(period, (int, float)) and isinstance(td, (int, float)) and period > 0:
-        return float(period), float(period) / 2 - float(td)
     t = pred.time
-    period = float(t[-1] - t[0])
+    group = "settings.gait." if isinstance(pred.summary.get("settings"), dict) else "inputs."
+    if period is not None:
+        period = summary_period(t, period, f"{group}period")
+    if period is not None and td is not None:
+        real = isinstance(td, numbers.Real) and not isinstance(td, bool)
+        if not (real and 0.0 <= float(td) < period):
+            raise ValueError(f"the summary's {group}double_support {td!r:.40} is not a "
+                             f"duration within the period {period:.6g} s")  # fmt: skip
+        return period, period / 2 - float(td)
+    period = float(t[-1] - t[0]) if period is None else period
     if period <= 0:
         raise ValueError("the prediction has no period: summary lacks inputs and time is empty")
     strikes = detect_contacts(t, pred.grf_force[:, 0, 1], 20.0, min_contact=0.0).heel_strikes

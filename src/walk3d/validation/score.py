@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from walk3d.results.labels import is_converged
 from walk3d.validation.compare import Comparison
 
 __all__ = ["CAP", "FAILED", "GUARDS", "KNEE_PEAK_SCALE", "MOMENT_R_BARS", "RMSE_BARS", "Score",
@@ -91,7 +92,7 @@ def score(comparison: Comparison, summary: dict, measured_td: float | None = Non
     """The score of one prediction (its ``comparison`` with a reference and its ``summary``).
     ``measured_td`` (s): the measured double support, scored when the summary says Td was
     predicted."""
-    if not summary.get("converged"):
+    if not is_converged(summary):  # only a recorded true: "no" is not converged
         return Score(FAILED, failed=f"did not converge ({summary.get('status')})")
     checks = summary.get("gait_checks") or {}
     if not checks.get("looks_like_walking"):
