@@ -32,7 +32,7 @@ def test_atlas_show_lists_the_shipped_files():
                        text=True, timeout=60, env=os.environ | {"COLUMNS": "200"})  # fmt: skip
     assert r.returncode == 0, r.stderr
     assert "male" in r.stdout and "natural" in r.stdout and "yes" in r.stdout
-    assert "13 (13)" in r.stdout and "14 (14)" in r.stdout  # handover entries (warm starts)
+    assert "17 (17)" in r.stdout and "19 (19)" in r.stdout  # handover entries (warm starts)
 
 
 @pytest.mark.parametrize(
@@ -159,3 +159,18 @@ def test_the_api_refuses_the_folders_before_its_sweep(tmp_path, monkeypatch):
     (tmp_path / "a").write_text("x")
     with pytest.raises(ValueError, match="--out .* is an existing file"):
         atlas.build_atlas("male", "natural", tmp_path / "w", "1.2,1.3", tmp_path / "a")
+
+
+def test_the_commands_default_speeds_are_the_atlas_builds():
+    """The command states the speeds as text (its module must not load CasADi): the same as
+    walk3d.campaign.atlas.ATLAS_SPEEDS, which the shipped atlas was built over."""
+    import inspect
+
+    from walk3d.campaign.atlas import ATLAS_SPEEDS
+    from walk3d.campaign.sweep import parse_speeds
+    from walk3d.cli.atlas_command import build
+
+    default = inspect.signature(build).parameters["speeds"].default
+    assert default == ATLAS_SPEEDS
+    grid = parse_speeds(default)
+    assert grid[0] == 0.4 and round(grid[-1], 6) == 2.2 and len(grid) == 19

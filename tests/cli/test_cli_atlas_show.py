@@ -72,4 +72,4 @@ def test_atlas_show_reports_td_fractions_and_walking_entries(monkeypatch, capsys
     out, _ = capsys.readouterr()
     assert info.value.code == 0
     male = next(line for line in out.splitlines() if "│ male" in line)
-    assert "0.107-0.125" in male and "not: 0.6" in male
+    assert "0.107-0.126" in male and "not: 0.4, 0.5, 0.6" in male

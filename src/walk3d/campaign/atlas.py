@@ -39,9 +39,9 @@ __all__ = ["ATLAS_SPEEDS", "PERIOD_FACTORS", "add_handover", "atlas_settings", "
            "check_atlas_paths", "fingerprint", "write_atlas", "write_periods",
            "write_warm"]  # fmt: skip
 
-ATLAS_SPEEDS = "0.6:2.0:0.1"
-"""Reference-subject speeds, m/s: subjects of 1.5-2.0 m walking 0.65-1.9 m/s map inside
-(V / √(h / 1.77 m))."""
+ATLAS_SPEEDS = "0.4:2.2:0.1"
+"""Reference-subject speeds, m/s: subjects of 1.5-2.0 m walking 0.43-2.0 m/s map inside
+(V / √(h / 1.77 m)), slow clinical walkers to fast walking."""
 
 
 def atlas_settings(sex: str, criterion: str, nodes: int = 20) -> PredictionSettings:

@@ -24,7 +24,7 @@ def build(
     ] = DEFAULT_PRESET,
     speeds: Annotated[
         str, typer.Option("--speeds", help="Reference-subject speeds, start:stop:step, m/s.")
-    ] = "0.6:2.0:0.1",
+    ] = "0.4:2.2:0.1",  # campaign.atlas.ATLAS_SPEEDS (that module loads CasADi)
     out: Annotated[
         str | None,
         typer.Option("--out", help="Atlas folder (default: the package's)."),
