@@ -235,9 +235,10 @@ def build_folders() -> list[Path]:
 def _owner(folder: Path) -> tuple[int, int | None] | None:
     """The pid and start time (None if not recorded) in a build folder's name, or None."""
     pid, *rest = folder.name[len(BUILD_PREFIX) :].split("-")  # the random part has no "-"
-    if not (pid.isdigit() and 1 <= len(rest) <= 2 and rest[-1]):
+    started = rest[:-1]  # [] or [start time]
+    if not (pid.isdigit() and 1 <= len(rest) <= 2 and rest[-1] and all(map(str.isdigit, started))):
         return None
-    return int(pid), int(rest[0]) if len(rest) == 2 and rest[0].isdigit() else None
+    return int(pid), int(started[0]) if started else None
 
 
 def leftover_builds() -> list[Path]:
