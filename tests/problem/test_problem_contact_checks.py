@@ -1,5 +1,6 @@
 """Contact checks: nodes of zero weight inside the double-support intervals, whose rows hold as
-a double-support node's (``settings.solver.contact_checks``)."""
+a double-support node's (``settings.solver.contact_checks``); swing checks, the same in swing
+and at toe off, with the swing foot above the floor (``settings.solver.swing_checks``)."""
 
 import numpy as np
 import pytest
@@ -84,3 +85,45 @@ def test_contact_and_loop_checks_do_not_go_together():
     with pytest.raises(ValueError, match="set loop checks to 0"):
         _given(contact_checks=1, loop_checks=1)
     _given(loop_checks=1)  # the control: each alone
+
+
+@pytest.mark.parametrize("make", [_given, _free])
+def test_swing_checks_sit_in_swing_from_toe_off_and_weigh_nothing(make):
+    plain, checked = schedule(make()), schedule(make(swing_checks=1))
+    check = checked.checks
+    np.testing.assert_array_equal(checked.times[~check], plain.times)
+    assert checked.swing[check].all() and not checked.double_support[check].any()
+    tau = checked.times[check] - plain.times[0]
+    g = make().gait
+    assert (tau >= g.double_support - 1e-12).all() and (tau < g.period / 2).all()
+    swing_nodes = int(plain.swing.sum())
+    assert check.sum() >= swing_nodes  # one inside each swing interval
+    assert (checked.weights[check] == 0).all()
+    assert checked.weights.sum() == pytest.approx(g.period / 2)
+    contact = schedule(make(contact_checks=1))  # the control: contact checks are not in swing
+    assert not contact.swing[contact.checks].any()
+
+
+def _floor_rows(s: PredictionSettings):
+    sch = schedule(s)
+    b = bounds(body_for(s), s, sch)
+    glo = b.lbg[layout.NlpLayout(sch.n, 0, 0).g("node")].reshape(sch.n, layout.N_G)
+    return sch, glo[:, R["other_points_y"]]
+
+
+@pytest.mark.parametrize("make", [_given, _free])
+def test_a_swing_check_keeps_the_swing_foot_above_the_floor_at_toe_off_too(make):
+    s = make(swing_checks=1, swing_clearance=0.004)
+    sch, floor = _floor_rows(s)
+    assert (floor[sch.checks] == 0.0).all()  # the floor, not the clearance, near the contacts
+    assert (floor[sch.swing & ~sch.checks] == 0.004).all()
+    at_toe_off = np.isclose(sch.times - sch.times[0], s.gait.double_support, atol=1e-12)
+    assert at_toe_off.any() and (floor[at_toe_off] == 0.0).all()
+    sch0, floor0 = _floor_rows(make(swing_clearance=0.004))  # the control: no checks
+    assert np.isneginf(floor0[sch0.double_support]).all()
+
+
+def test_swing_checks_are_bounded():
+    with pytest.raises(ValueError, match="swing checks"):
+        _given(swing_checks=5)
+    _given(swing_checks=4)

@@ -51,6 +51,7 @@ def _dense(m) -> np.ndarray:
                 "pose=0.5,pelvis=0.5,momentum=0.3,spin=0.7,arms=0.6",
                 "heel_strike_nodes": 2,
                 "contact_checks": 1,
+                "swing_checks": 1,
                 "cop_margin": 0.02,
             },
             marks=pytest.mark.model,

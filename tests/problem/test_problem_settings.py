@@ -31,6 +31,7 @@ ADDED_SINCE = [
     "swing_clearance",
     "heel_strike_nodes",
     "contact_checks",
+    "swing_checks",
     "split_terms",
     "reject_crouch",
     "free",

@@ -83,7 +83,7 @@ def check_folder(out: Path, settings: PredictionSettings) -> None:
 
 PROBLEM_FIELDS = (("gait", "sex"), ("gait", "mass"), ("gait", "height"), ("gait", "free"),
                   ("solver", "nodes"), ("solver", "heel_strike_nodes"),
-                  ("solver", "contact_checks"),
+                  ("solver", "contact_checks"), ("solver", "swing_checks"),
                   *(("model", name) for name in ModelSettings.model_fields))  # fmt: skip
 """``(group, setting)`` that, with the speed, define the problem a stored speed must have
 solved to be resumed: the subject, the free descriptors, the grid and every model setting."""

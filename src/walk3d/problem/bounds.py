@@ -88,7 +88,7 @@ def bounds(
     lbx[layout.I_HALF_STEP], ubx[layout.I_HALF_STEP] = 0.02, 0.25
     ylo, yhi = _coord_bounds(body, settings, sch)
     t_lo, t_hi = (-np.inf, np.inf) if slack else (0.0, 0.0)
-    weighted_node = np.repeat(~sch.checks, N_T)  # a contact check's slacks are unused: 0
+    weighted_node = np.repeat(~sch.checks, N_T)  # a check node's slacks are unused: 0
     t_lo, t_hi = np.where(weighted_node, t_lo, 0.0), np.where(weighted_node, t_hi, 0.0)
     n_split = free_split.coefficient_count(settings.model.split_terms)
     lbz = np.concatenate([lbx, ylo.ravel(), np.full(layout.N_W0 + n_split, -np.inf), t_lo])
@@ -104,8 +104,10 @@ def bounds(
             if sch.checks[k]:  # as the loop checks between nodes
                 tol = max(tol, settings.solver.loop_check_tolerance)
             glo[k, loop], ghi[k, loop] = 0.0 - tol, tol
-        if sch.swing[k]:
-            glo[k, R["other_points_y"]] = settings.model.swing_clearance
+        if sch.swing[k]:  # a swing check, close to toe off or heel strike: the floor
+            glo[k, R["other_points_y"]] = 0.0 if sch.checks[k] else settings.model.swing_clearance
+        elif settings.solver.swing_checks and _at_toe_off(settings, sch, k):
+            glo[k, R["other_points_y"]] = 0.0
         if per_foot and sch.double_support[k]:  # (constant zero rows in the first stage:
             # bounding them would pin IPOPT's slacks at their bounds)
             glo[k, R["other_force"].start] = 0.0
@@ -143,3 +145,10 @@ def bounds(
     lay = layout.NlpLayout(n_nodes, rlo.size, n_loop, n_s, n_split)
     assert (lbz.size, lbg.size) == (lay.n_z, lay.n_g), "bounds out of the layout's blocks"
     return Bounds(lbz, ubz, lbg, ubg)
+
+
+def _at_toe_off(settings: PredictionSettings, sch: Schedule, k: int) -> bool:
+    """Whether node ``k`` sits at the trailing foot's toe off (the phase grid has one there),
+    where that foot is about to swing and its landmarks must be above the floor too."""
+    g = settings.gait
+    return abs(sch.times[k] - sch.times[0] - g.double_support) < 1e-9 * g.period

@@ -77,11 +77,13 @@ class FreeGrid:
     ramp: float | None = None
     """The leading foot's load ramp (:func:`walk3d.contact.phases.trailing_share`)."""
     n_checks: int = 0
-    """Contact-check nodes at the end: inside the double-support intervals, zero weight."""
+    """Check nodes at the end (contact checks inside the double-support intervals, then swing
+    checks inside the swing intervals): zero weight."""
 
     @property
     def check(self) -> np.ndarray:
-        """Per node, whether it is a contact check (no quadrature weight, no slacks)."""
+        """Per node, whether it is a contact or swing check (no quadrature weight, no
+        slacks)."""
         return np.arange(self.n) >= self.n - self.n_checks
 
     @property
@@ -128,11 +130,16 @@ def ds_intervals(nodes: int) -> int:
 
 
 def free_grid(
-    nodes: int, n_ds: int | None = None, ramp: float | None = None, checks: int = 0
+    nodes: int,
+    n_ds: int | None = None,
+    ramp: float | None = None,
+    checks: int = 0,
+    swing_checks: int = 0,
 ) -> FreeGrid:
     """The grid for ``nodes`` nodes with ``n_ds`` double-support intervals (default:
     :func:`ds_intervals`) and the load ramp ``ramp`` (:class:`FreeGrid`), plus ``checks``
-    contact-check nodes evenly inside each double-support interval, appended after the nodes
+    contact-check nodes evenly inside each double-support interval and ``swing_checks`` inside
+    each swing interval (toe off to heel strike), appended after the nodes in that order
     (:mod:`walk3d.problem.schedule` says why)."""
     n_ds = ds_intervals(nodes) if n_ds is None else int(n_ds)
     if not 1 <= n_ds <= nodes - 2:
@@ -142,21 +149,26 @@ def free_grid(
     in_ds = k < n_ds
     frac = np.arange(1, checks + 1) / (checks + 1)
     a_check = (np.arange(n_ds)[:, None] + frac[None, :]).ravel() / n_ds
-    n_c = a_check.size
-    a = np.concatenate([np.where(in_ds, k / n_ds, 1.0), a_check])
-    b = np.concatenate([np.where(in_ds, 0.0, (k - n_ds) / m), np.zeros(n_c)])
+    frac_sw = np.arange(1, swing_checks + 1) / (swing_checks + 1)
+    b_swing = (np.arange(m)[:, None] + frac_sw[None, :]).ravel() / m
+    n_c, n_sw = a_check.size, b_swing.size
+    a = np.concatenate([np.where(in_ds, k / n_ds, 1.0), a_check, np.ones(n_sw)])
+    b = np.concatenate([np.where(in_ds, 0.0, (k - n_ds) / m), np.zeros(n_c), b_swing])
+    zeros = np.zeros(n_c + n_sw)
     return FreeGrid(
         n_ds=n_ds, a=a, b=b,
-        alpha=np.concatenate([np.where(in_ds, 1.0 / n_ds, 0.0), np.zeros(n_c)]),
-        beta=np.concatenate([np.where(in_ds, 0.0, 1.0 / m), np.zeros(n_c)]),
-        double_support=np.concatenate([k <= n_ds, np.ones(n_c, dtype=bool)]), ramp=ramp,
-        n_checks=n_c,
+        alpha=np.concatenate([np.where(in_ds, 1.0 / n_ds, 0.0), zeros]),
+        beta=np.concatenate([np.where(in_ds, 0.0, 1.0 / m), zeros]),
+        double_support=np.concatenate([k <= n_ds, np.ones(n_c, dtype=bool),
+                                       np.zeros(n_sw, dtype=bool)]),
+        ramp=ramp, n_checks=n_c + n_sw,
     )  # fmt: skip
 
 
 def grid_for(solver: Any, ramp: float | None = None) -> FreeGrid:
-    """The free grid of the solver settings ``solver`` (nodes and contact checks)."""
-    return free_grid(solver.nodes, ramp=ramp, checks=solver.contact_checks)
+    """The free grid of the solver settings ``solver`` (nodes, contact and swing checks)."""
+    return free_grid(solver.nodes, ramp=ramp, checks=solver.contact_checks,
+                     swing_checks=solver.swing_checks)  # fmt: skip
 
 
 def objective_scale(period: Any, period0: float) -> Any:

@@ -77,6 +77,9 @@ def schedule(settings: PredictionSettings) -> Schedule:
     as a double-support node's but that weigh nothing in the criterion. Between the nodes of
     double support the leading foot loads from nothing to most of the body weight, and its
     centre of pressure left the heel by 3 cm at 0.8 body weight there (docs/criteria.md).
+    Swing checks (``settings.solver.swing_checks`` per swing interval, from toe off to the next
+    heel strike, appended after them, with one at toe off) are the same in swing, with the
+    swing foot above the floor: between its nodes it dipped 3.5 mm into it (docs/criteria.md).
     """
     if on_phase_grid(settings):
         return free_schedule(settings)
@@ -93,13 +96,17 @@ def schedule(settings: PredictionSettings) -> Schedule:
     td = settings.gait.double_support
     ds = tau <= td + 1e-9
     checks = _check_times(tau[ds], td, settings.solver.contact_checks, settings.gait.period)
+    swing = _inside(np.concatenate([[td], tau[~ds], [settings.gait.period / 2]]),
+                    settings.solver.swing_checks)  # fmt: skip
+    swing = np.concatenate([[td], swing]) if swing.size else swing  # and toe off itself
     check = None
-    if checks.size:
+    if checks.size or swing.size:
         weights = np.full(tau.size, h) if weights is None else weights
-        weights = np.concatenate([weights, np.zeros(checks.size)])
-        check = np.arange(tau.size + checks.size) >= tau.size
-        tau = np.concatenate([tau, checks])
-        ds = np.concatenate([ds, np.ones(checks.size, dtype=bool)])
+        weights = np.concatenate([weights, np.zeros(checks.size + swing.size)])
+        check = np.arange(weights.size) >= tau.size
+        tau = np.concatenate([tau, checks, swing])
+        ds = np.concatenate([ds, np.ones(checks.size, dtype=bool),
+                             np.zeros(swing.size, dtype=bool)])  # fmt: skip
     half = settings.gait.stride_length / 2
     return Schedule(
         times=ph.heel_strike_r + tau,
@@ -118,7 +125,11 @@ def _check_times(tau_ds: np.ndarray, td: float, per_interval: int, period: float
     times ``tau_ds`` (s after heel strike) and from the last of them to toe off ``td``, when
     toe off is not on a node (as :func:`loop_check_times` judges it)."""
     gap = td - tau_ds[-1] > 1e-6 * period
-    ends = np.concatenate([tau_ds, [td]]) if gap else tau_ds
+    return _inside(np.concatenate([tau_ds, [td]]) if gap else tau_ds, per_interval)
+
+
+def _inside(ends: np.ndarray, per_interval: int) -> np.ndarray:
+    """``per_interval`` instants evenly inside each interval between consecutive ``ends``."""
     frac = np.arange(1, per_interval + 1) / (per_interval + 1)
     return (ends[:-1, None] + frac[None, :] * np.diff(ends)[:, None]).ravel()
 

@@ -90,6 +90,9 @@ class SolverSettings(SettingsGroup):
     contact_checks: int = 0
     """Instants inside each double-support interval at which the node rows hold too, as
     nodes of zero weight (:mod:`walk3d.problem.schedule` says why)."""
+    swing_checks: int = 0
+    """Instants inside each swing interval at which the node rows hold too, as nodes of zero
+    weight: the swing foot stays above the floor between its nodes."""
     derivatives: Literal["structured", "casadi"] = "structured"
     """Exact derivatives assembled from per-node blocks (:mod:`walk3d.problem.derivatives`,
     several times cheaper) or CasADi's sweeps through the whole NLP (same values)."""
@@ -174,6 +177,8 @@ class SolverSettings(SettingsGroup):
             (0 <= self.loop_checks <= 4, f"loop checks must be in [0, 4], got {self.loop_checks}"),
             (0 <= self.contact_checks <= 4,
              f"contact checks must be in [0, 4], got {self.contact_checks}"),
+            (0 <= self.swing_checks <= 4,
+             f"swing checks must be in [0, 4], got {self.swing_checks}"),
             (not (self.contact_checks and self.loop_checks),
              "contact checks hold the loop between the nodes too: set loop checks to 0"),
             (0 < self.loop_check_tolerance <= 0.05,
