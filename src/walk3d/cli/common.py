@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 import sys
-from typing import Annotated
+from typing import Annotated, Any
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
@@ -267,28 +267,31 @@ def positive_options(**values: float | None) -> None:
             fail(f"--{name.replace('_', '-')}{str(exc)[len(name) :]}")
 
 
-def check_output_folder(
-    path: str, option: str = "--out", replaces: str | None = None, own: tuple[str, ...] = ()
-) -> None:
+def check_output_folder(path: str, option: str = "--out", replaces: str | None = None,
+                        own: tuple[str, ...] = (), **checks: Any) -> None:  # fmt: skip
     """Refuse, before any work starts, an output folder that is an existing file, cannot be
-    created or written, or (with ``replaces``) is a folder of other files (than ``own``, when
-    given): one line and exit code 2 (:func:`walk3d.outputs.check_output_folder`, the API's
-    check too)."""
+    created or written, lies in a walk3d result folder (but ``home``), or (with ``replaces``)
+    is a folder of other files (than ``own``, when given): one line and exit code 2
+    (:func:`walk3d.outputs.check_output_folder`, the API's check too)."""
     from walk3d.outputs import check_output_folder as check
 
     try:
-        check(path, option, replaces, own or None)
+        check(path, option, replaces, own or None, **checks)
     except ValueError as exc:
         fail(str(exc))
 
 
-def check_output_file(path: str, option: str = "--out", suffix: str | None = None) -> None:
-    """Refuse, before any work starts, an output file that is a folder, lacks ``suffix`` or
-    cannot be created: one line and exit code 2 (:func:`walk3d.outputs.check_output_file`)."""
+def check_output_file(
+    path: str, option: str = "--out", suffix: str | None = None, **checks: Any
+) -> None:
+    """Refuse, before any work starts, an output file that is a folder, lacks ``suffix``,
+    cannot be created, lies in a walk3d result folder (but ``home``), is an input or is not
+    walk3d's (``inputs``, ``existing``): one line and exit code 2
+    (:func:`walk3d.outputs.check_output_file`)."""
     from walk3d.outputs import check_output_file as check
 
     try:
-        check(path, option, suffix)
+        check(path, option, suffix, **checks)
     except ValueError as exc:
         fail(str(exc))
 

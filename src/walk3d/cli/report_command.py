@@ -40,12 +40,12 @@ def report(
     target = Path(out) if out is not None else None
     if target is not None and target.suffix.lower() not in (".html", ".htm"):
         fail(f"--out must name an .html file, got {target}")
-    if target is not None:
-        check_output_file(str(target))  # a folder, a device, FIFO or socket: refused
     if not Path(folder).is_dir():
         fail(f"{folder} is not a folder")
-    if target is None:
-        check_output_file(str(Path(folder) / "report.html"), "the page")  # as --out is
+    if target is not None:  # a folder, device, FIFO, another result's file: refused
+        check_output_file(str(target), home=folder)
+    else:
+        check_output_file(str(Path(folder) / "report.html"), "the page", home=folder)
     found = find_data(data)
     if data is not None and found is None:
         names = ", ".join(rel for rel, _ in SOURCES)

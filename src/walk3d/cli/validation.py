@@ -48,8 +48,8 @@ def validate(
     (criteria and their x/y/z split) and figures, written to --out all together, in place of
     an earlier validation there. A prediction that did not converge or does not walk is named
     in a warning line, and its score's failure printed. Exit code 2 for bad input (also an
-    --out that is a file or a folder holding files walk3d did not write), 3 if the folder
-    cannot be written (nothing is changed)."""
+    --out that is a file, a folder holding files walk3d did not write or lies in another walk3d
+    result folder), 3 if the folder cannot be written (nothing is changed)."""
     from walk3d.cli.labels import warn_if_invalid
     from walk3d.io.errors import DataFileError, OutputWriteError
     from walk3d.results.labels import did_not_converge
@@ -65,7 +65,7 @@ def validate(
         fail(f"cannot read the prediction {pred_dir}: {' '.join(str(exc).split())}")
     target = out if out is not None else os.path.join(pred_dir, VALIDATION_FOLDER)
     try:
-        check_validation_folder(target, "--out")
+        check_validation_folder(target, "--out", home=pred_dir)  # not in another result
     except ValueError as exc:
         fail(str(exc))
     try:
