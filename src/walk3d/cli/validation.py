@@ -15,7 +15,6 @@ from walk3d.cli.common import (
     PlateThreshold,
     Sex,
     app,
-    check_output_file,
     console,
     fail,
     input_file,
@@ -117,7 +116,14 @@ def calibrate(
     grf: Annotated[
         str, typer.Option("--grf", help="GRF .mot of the same trial.", callback=input_file)
     ],
-    out: Annotated[str, typer.Option("--out", help="Calibration file to write (.json).")],
+    out: Annotated[
+        str,
+        typer.Option(
+            "--out",
+            help="Calibration file to write (.json), with its figures "
+            "OUT_rollover.png and OUT_transition.png beside it.",
+        ),
+    ],
     mass: Mass = 68.8,
     height: Height = 1.77,
     sex: Sex = "male",
@@ -126,17 +132,20 @@ def calibrate(
 ) -> None:
     """Fit the stance-foot roll-over and the double-support transition ratios to a trial and
     write them to a calibration file, with the figures OUT_rollover.png and
-    OUT_transition.png beside it: all three or none. Exit code 2 for bad input, 3 if they
-    cannot be written (nothing is changed)."""
+    OUT_transition.png beside it: all three or none. Exit code 2 for bad input (also an --out
+    that is not .json, is the trial's file, lies in a walk3d result folder or is a file other
+    than an earlier calibration, or figures there without one), 3 if they cannot be written
+    (nothing is changed)."""
     from walk3d.body.model import build_body
-    from walk3d.calibration.calibrate import calibrate_from_trial, figure_paths
+    from walk3d.calibration.calibrate import calibrate_from_trial, check_calibration_out
     from walk3d.calibration.tables import calibration_table
     from walk3d.io.errors import DataFileError, OutputWriteError
 
     positive_options(mass=mass, height=height, threshold=threshold, speed=speed)  # before work
-    check_output_file(out)
-    for figure in figure_paths(out):  # written beside it: none a device or FIFO either
-        check_output_file(str(figure), "the figure")
+    try:  # the API's check: not an input, a result's file, a user's file or their figures
+        check_calibration_out(out, ik, grf, option="--out")
+    except ValueError as exc:
+        fail(str(exc))
     if sex not in ("male", "female"):
         fail(f"--sex must be 'male' or 'female', got {sex!r}")
     try:
