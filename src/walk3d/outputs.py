@@ -31,7 +31,7 @@ from walk3d.io.errors import OutputWriteError
 __all__ = ["NAME_MAX_BYTES", "TEMPORARY_BYTES", "check_folder_of_folders", "check_output_file",
            "check_output_folder", "check_outside_results", "foreign_files", "is_result_folder",
            "json_holds", "new_folder", "replace_files", "result_folder_around",
-           "write_errors"]  # fmt: skip
+           "same_path", "write_errors"]  # fmt: skip
 
 NAME_MAX_BYTES = 255
 """Longest file or folder name, bytes, that common file systems hold (ext4, XFS, APFS)."""
@@ -230,7 +230,7 @@ def check_output_file(
                          "walk3d writes only regular files")  # fmt: skip
     check_outside_results(out, option, home)
     for name, given in (inputs or {}).items():
-        if given is not None and out.is_file() and _same(out, given):
+        if given is not None and out.is_file() and same_path(out, given):
             raise ValueError(f"{option} {shown} is the {name} file, which walk3d reads: it "
                              "would be replaced; write to another file")  # fmt: skip
     if existing is not None and out.is_file() and not existing[1](out):
@@ -297,7 +297,7 @@ def new_folder(folder: str | PathLike[str], own: Collection[str]) -> Iterator[Pa
         raise
 
 
-def _same(a: str | PathLike[str], b: str | PathLike[str]) -> bool:
+def same_path(a: str | PathLike[str], b: str | PathLike[str]) -> bool:
     """Whether ``a`` and ``b`` name the same file or folder (links and hard links followed)."""
     try:
         return os.path.samefile(a, b)
@@ -343,6 +343,6 @@ def check_outside_results(
     written there, it would replace or stand among that result's files, and the next
     ``walk3d predict --out`` of the folder would be refused."""
     inside = result_folder_around(path)
-    if inside is not None and not (home is not None and _same(inside, home)):
+    if inside is not None and not (home is not None and same_path(inside, home)):
         raise ValueError(f"{option} {os.fspath(path)} is inside the walk3d result folder "
                          f"{inside}; write outside it")  # fmt: skip
