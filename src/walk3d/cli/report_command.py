@@ -32,8 +32,8 @@ def report(
     animation if DIR has one; for a campaign, its starts, the five best and the best
     prediction. Written atomically; a page written into a prediction folder is listed in its
     manifest, and made again when deleted. Exit code 2 for a folder of neither kind, a bad
-    option or a --data folder whose tables are malformed or hold NaN or infinite values; 3 if
-    it cannot be written."""
+    option (an --out inside another walk3d result folder too) or a --data folder whose
+    tables are malformed or hold NaN or infinite values; 3 if it cannot be written."""
     from walk3d.report.norms import SOURCES, find_data, load_norms
     from walk3d.report.writer import build_report, save_report
 
