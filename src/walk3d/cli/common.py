@@ -269,10 +269,9 @@ def positive_options(**values: float | None) -> None:
 
 def check_output_folder(path: str, option: str = "--out", replaces: str | None = None,
                         own: tuple[str, ...] = (), **checks: Any) -> None:  # fmt: skip
-    """Refuse, before any work starts, an output folder that is an existing file, cannot be
-    created or written, lies in a walk3d result folder (but ``home``), or (with ``replaces``)
-    is a folder of other files (than ``own``, when given): one line and exit code 2
-    (:func:`walk3d.outputs.check_output_folder`, the API's check too)."""
+    """Refuse, before any work, an output folder that is a file, cannot be written, lies in a
+    result folder (but ``home``) or holds other files than a ``replaces`` result (and ``own``):
+    one line and exit 2 (:func:`walk3d.outputs.check_output_folder`, the API's check too)."""
     from walk3d.outputs import check_output_folder as check
 
     try:
@@ -284,10 +283,9 @@ def check_output_folder(path: str, option: str = "--out", replaces: str | None =
 def check_output_file(
     path: str, option: str = "--out", suffix: str | None = None, **checks: Any
 ) -> None:
-    """Refuse, before any work starts, an output file that is a folder, lacks ``suffix``,
-    cannot be created, lies in a walk3d result folder (but ``home``), is an input or is not
-    walk3d's (``inputs``, ``existing``): one line and exit code 2
-    (:func:`walk3d.outputs.check_output_file`)."""
+    """Refuse, before any work, an output file that is a folder, lacks ``suffix``, cannot be
+    created, lies in a result folder (but ``home``), is an input or is not walk3d's (``inputs``,
+    ``existing``): one line and exit 2 (:func:`walk3d.outputs.check_output_file`)."""
     from walk3d.outputs import check_output_file as check
 
     try:
@@ -349,6 +347,7 @@ def gait_fields(
 
 def settings_from_options(criterion: str, solver: str, seed: int, **fields):
     """Validated PredictionSettings from command-line values, or one error line and exit 2."""
+    from walk3d.model.settings import equal_steps_unused
     from walk3d.problem.settings import PredictionSettings, first_error
 
     criterion = criterion_option(criterion)
@@ -362,6 +361,9 @@ def settings_from_options(criterion: str, solver: str, seed: int, **fields):
         fail(first_error(exc))
     if solver == "sqp" and settings.model.split_terms:
         fail("--split-terms needs --solver ipopt (the SLSQP baseline solves the paper's split)")
+    if equal_steps_unused(settings.model):  # as walk3d.api.settings refuses it
+        fail("--equal-steps needs --full-cycle or a one-sided change (a name ending in _r or "
+             "_l, --leg-length-difference): the half cycle's steps are equal already")  # fmt: skip
     if settings.solver.linear_solver != "mumps" and solver == "ipopt":
         from walk3d.solve.options import linear_solver_error
 
