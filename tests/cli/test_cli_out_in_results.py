@@ -65,3 +65,14 @@ def test_validate_refuses_another_results_validation_folder(tmp_path, capsys, co
     args = ["validate", complete, "--reference", tmp_path / "none.csv", "--out"]
     one_line_error(cli(capsys, *args, other / "validation"), "inside the walk3d result folder")
     one_line_error(cli(capsys, *args, complete / "validation"), "none.csv")
+
+
+def test_animate_refuses_a_video_inside_another_result_folder(tmp_path, capsys):
+    """animate A --out B/animation.mp4 would have put A's walk among B's files; the control
+    (--out beside them) passes the check and reaches the reading of A."""
+    walked, other = bare_result_folder(tmp_path / "a"), bare_result_folder(tmp_path / "b")
+    one_line_error(
+        cli(capsys, "animate", walked, "--out", other / "animation.mp4"),
+        f"--out {other / 'animation.mp4'} is inside the walk3d result folder",
+    )
+    one_line_error(cli(capsys, "animate", walked, "--out", tmp_path / "a.mp4"), "cannot animate")
