@@ -177,6 +177,7 @@ def settings(
     or TOML file), ``mass``, ``height``, ``sex``, ``start``, ``nodes``, ``threads`` (default:
     every core) and any other :class:`~walk3d.problem.settings.PredictionSettings` field.
     Raises ValueError with one line, also for an ``hsl_library`` IPOPT must not load."""
+    from walk3d.model.settings import equal_steps_unused
     from walk3d.model.terms import DEFAULT_PRESET
     from walk3d.problem.settings import PredictionSettings, available_cores, first_error
 
@@ -192,6 +193,11 @@ def settings(
         made = PredictionSettings(**fields_, **options)
     except ValueError as exc:
         raise ValueError(first_error(exc)) from None
+    if equal_steps_unused(made.model):
+        raise ValueError(
+            "equal_steps needs full_cycle=True or a one-sided change (a name "
+            "ending in _r or _l): the half cycle's steps are equal already"
+        )
     if made.solver.hsl_library:
         from walk3d.solve.options import hsl_library_error  # a FIFO, a library cut short
 

@@ -14,7 +14,7 @@ import errno
 import os
 import shutil
 import stat
-from collections.abc import Callable, Collection, Iterator
+from collections.abc import Callable, Collection, Iterator, Mapping
 from contextlib import contextmanager
 from os import PathLike
 from pathlib import Path
@@ -29,8 +29,9 @@ from walk3d.io.atomic import (
 from walk3d.io.errors import OutputWriteError
 
 __all__ = ["NAME_MAX_BYTES", "TEMPORARY_BYTES", "check_folder_of_folders", "check_output_file",
-           "check_output_folder", "foreign_files", "new_folder", "replace_files",
-           "result_folder_around", "write_errors"]  # fmt: skip
+           "check_output_folder", "check_outside_results", "foreign_files", "is_result_folder",
+           "json_holds", "new_folder", "replace_files", "result_folder_around",
+           "same_path", "write_errors"]  # fmt: skip
 
 NAME_MAX_BYTES = 255
 """Longest file or folder name, bytes, that common file systems hold (ext4, XFS, APFS)."""
@@ -141,18 +142,22 @@ def check_output_folder(
     option: str = "--out",
     replaces: str | None = None,
     own: Collection[str] | Callable[[Path], Collection[str]] | None = None,
+    *,
+    home: str | PathLike[str] | None = None,
 ) -> Path:
     """Refuse, before any work starts, an output folder that is an existing file or cannot be
     created or written: ValueError with one line naming ``option``. With ``replaces`` (a file
     name), an existing non-empty folder must hold that file, so that only an earlier result is
     ever replaced, never a folder of other files; with ``own`` too (the paths walk3d writes
     there, or a function of the folder giving them), it must hold nothing else
-    (:func:`foreign_files`). A path that is not UTF-8, has a name too long for a file system
-    or is a symbolic link (:func:`_check_link`) is refused too. Returns the folder."""
+    (:func:`foreign_files`). A path that is not UTF-8, has a name too long for a file system,
+    is a symbolic link (:func:`_check_link`) or lies inside a walk3d result folder other than
+    ``home`` (:func:`check_outside_results`) is refused too. Returns the folder."""
     _check_name(path, option)
     out = Path(path)
     shown = os.fspath(path)
     _check_link(out, option, shown, "folder")
+    check_outside_results(out, option, home)
     if out.exists() and not out.is_dir():
         raise ValueError(f"{option} {shown} is an existing file, not a folder")
     if replaces and out.is_dir() and any(out.iterdir()):
@@ -198,12 +203,20 @@ def check_folder_of_folders(path: str | PathLike[str], option: str, replaces: st
 
 
 def check_output_file(
-    path: str | PathLike[str], option: str = "--out", suffix: str | None = None
+    path: str | PathLike[str],
+    option: str = "--out",
+    suffix: str | None = None,
+    *,
+    home: str | PathLike[str] | None = None,
+    inputs: Mapping[str, str | PathLike[str] | None] | None = None,
+    existing: tuple[str, Callable[[Path], bool]] | None = None,
 ) -> Path:
     """Refuse, before any work starts, an output file that is a folder, lacks ``suffix``
-    (``".mp4"``...), cannot be created, is not UTF-8, has a name too long for a file system or
-    is a symbolic link (:func:`_check_link`): ValueError with one line. Returns the file's
-    path."""
+    (``".mp4"``...), cannot be created, is not UTF-8, has a name too long for a file system,
+    is a symbolic link (:func:`_check_link`), lies inside a walk3d result folder other than
+    ``home`` (:func:`check_outside_results`), is one of the files ``inputs`` (option: path)
+    the command reads, or, with ``existing`` (what walk3d writes there, a test of a file),
+    exists and is not such a file: ValueError with one line. Returns the file's path."""
     _check_name(path, option)
     out = Path(path)
     shown = os.fspath(path)
@@ -215,6 +228,14 @@ def check_output_file(
     if out.exists() and not out.is_file():
         raise ValueError(f"{option} {shown} is not a regular file (a device, FIFO or socket): "
                          "walk3d writes only regular files")  # fmt: skip
+    check_outside_results(out, option, home)
+    for name, given in (inputs or {}).items():
+        if given is not None and out.is_file() and same_path(out, given):
+            raise ValueError(f"{option} {shown} is the {name} file, which walk3d reads: it "
+                             "would be replaced; write to another file")  # fmt: skip
+    if existing is not None and out.is_file() and not existing[1](out):
+        raise ValueError(f"{option} {shown} exists and is not a {existing[0]}: walk3d "
+                         "replaces only its own files; move it or name another file")  # fmt: skip
     _writable_base(out.parent, option, shown)
     return out
 
@@ -276,10 +297,52 @@ def new_folder(folder: str | PathLike[str], own: Collection[str]) -> Iterator[Pa
         raise
 
 
+def same_path(a: str | PathLike[str], b: str | PathLike[str]) -> bool:
+    """Whether ``a`` and ``b`` name the same file or folder (links and hard links followed)."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return os.path.abspath(a) == os.path.abspath(b)
+
+
+def json_holds(path: str | PathLike[str], *keys: str) -> bool:
+    """Whether the file ``path`` is a JSON object holding every one of ``keys``: how walk3d
+    knows a JSON file it wrote (a calibration, an audit) from a user's before replacing it."""
+    from walk3d.io.checks import read_json_object
+
+    try:
+        data = read_json_object(path)
+    except (OSError, ValueError):  # DataFileError is a ValueError
+        return False
+    return all(key in data for key in keys)
+
+
+def is_result_folder(folder: str | PathLike[str]) -> bool:
+    """Whether ``folder`` is a walk3d result folder (``walk3d predict`` or ``track``): its
+    ``summary.json`` beside the ``manifest.json`` written last, or beside ``result.npz``."""
+    base = Path(folder)
+    return (base / "summary.json").is_file() and any(
+        (base / name).is_file() for name in ("manifest.json", "result.npz")
+    )
+
+
 def result_folder_around(folder: str | PathLike[str]) -> Path | None:
-    """The walk3d result folder (``summary.json`` beside ``result.npz``) that holds ``folder``
+    """The nearest walk3d result folder (:func:`is_result_folder`) that holds ``folder``
     somewhere below it, or None."""
-    for parent in Path(folder).absolute().parents:
-        if (parent / "summary.json").is_file() and (parent / "result.npz").is_file():
+    for parent in Path(os.path.abspath(folder)).parents:  # "..": as the file system reads it
+        if is_result_folder(parent):
             return parent
     return None
+
+
+def check_outside_results(
+    path: str | PathLike[str], option: str, home: str | PathLike[str] | None = None
+) -> None:
+    """Raise ValueError (one line) if ``path`` lies inside a walk3d result folder other than
+    ``home`` (the result a command reads and adds its own files to: its page, video, audit):
+    written there, it would replace or stand among that result's files, and the next
+    ``walk3d predict --out`` of the folder would be refused."""
+    inside = result_folder_around(path)
+    if inside is not None and not (home is not None and same_path(inside, home)):
+        raise ValueError(f"{option} {os.fspath(path)} is inside the walk3d result folder "
+                         f"{inside}; write outside it")  # fmt: skip

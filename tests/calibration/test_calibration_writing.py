@@ -28,8 +28,8 @@ def test_calibrate_on_a_full_disk_exits_3_and_keeps_the_earlier_calibration(
     falisse, tmp_path, capfd, monkeypatch
 ):
     out = tmp_path / "c.json"
-    for name in ("c.json", "c_rollover.png", "c_transition.png"):
-        (tmp_path / name).write_text(f"the earlier {name}")
+    for name in ("c.json", "c_rollover.png", "c_transition.png"):  # an earlier calibration's
+        (tmp_path / name).write_text(f'{{"walk3d_calibration": 1, "was": "the earlier {name}"}}')
     (tmp_path / "notes.txt").write_text("the user's")
     before = snapshot(tmp_path)
     synced = full_disk(monkeypatch, after=1)

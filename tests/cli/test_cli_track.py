@@ -74,9 +74,10 @@ def test_audit_refuses_an_out_that_is_not_a_writable_json_file_before_the_audit(
 
 
 def test_audit_with_a_writable_out_reaches_the_audit(capsys, tmp_path, monkeypatch):
-    """Negative control: a new .json file, and an earlier one to replace."""
+    """Negative control: a new .json file, and an earlier audit to replace."""
     _audit_reached(monkeypatch)
-    (tmp_path / "old.json").write_text("{}")
+    (tmp_path / "old.json").write_text('{"criterion": "", "terms": [], "limb_work": {}, '
+                                       '"bursts": {}}')  # fmt: skip
     for name in ("new.json", "old.json"):
         with pytest.raises(Audited):
             cli(capsys, "audit", tmp_path / "t", tmp_path / "p", "--out", tmp_path / name)

@@ -131,3 +131,37 @@ def test_a_single_leg_length_difference_is_accepted(capsys, tmp_path, solve):
     """Negative control: given once, the right shank changes by that much."""
     changes = _accepted(capsys, tmp_path, solve, "--leg-length-difference", "-0.02")
     assert list(changes.shank_length) == [("shank_r", -0.02)]
+
+
+@pytest.mark.parametrize("command", ["predict", "sweep", "campaign"])
+@pytest.mark.parametrize("others", [[], ["--strength", "ankle=0.5"]], ids=["alone", "both-sides"])
+def test_equal_steps_without_a_full_cycle_is_refused_before_any_solve(capsys, tmp_path, solve,
+                                                                     command, others):  # fmt: skip
+    """--equal-steps alone solved the half cycle (one step, mirrored) and recorded
+    ``equal_steps: true`` in summary.json, though it did nothing."""
+    extra = {"predict": [], "sweep": ["--speeds", "1.3"], "campaign": ["--starts", "1"]}
+    one_line_error(cli(capsys, command, *extra[command], "--out", tmp_path / "o",
+                       "--equal-steps", *others),
+                   "--equal-steps needs --full-cycle or a one-sided change")  # fmt: skip
+    assert not solve and not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("args", [["--full-cycle"], ["--strength", "ankle_r=0.5"],
+                                  ["--leg-length-difference", "-0.02"]],
+                         ids=["full-cycle", "one-sided", "leg-length"])  # fmt: skip
+def test_equal_steps_with_a_full_cycle_reaches_the_solve(capsys, tmp_path, solve, args):
+    """Negative control: with --full-cycle or a one-sided change the steps may differ, and
+    --equal-steps holds them equal."""
+    _accepted(capsys, tmp_path, solve, "--equal-steps", *args)
+    assert solve["settings"].model.equal_steps
+
+
+def test_the_api_refuses_equal_steps_without_a_full_cycle():
+    """walk3d.predict(equal_steps=True) alike, before any solve (its settings refuse it)."""
+    import walk3d
+    from walk3d.api import settings
+
+    with pytest.raises(ValueError, match=r"^equal_steps needs full_cycle=True or a one-sided"):
+        walk3d.predict(1.3, equal_steps=True)
+    assert settings(1.3, equal_steps=True, full_cycle=True).model.equal_steps  # controls
+    assert settings(1.3, equal_steps=True, changes={"strength": {"ankle_r": 0.5}})

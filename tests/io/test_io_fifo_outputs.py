@@ -54,7 +54,8 @@ def test_calibrate_refuses_a_fifo_at_a_figure_and_replaces_a_regular_file(
             calibrate_from_trial(tmp_path / "none.mot", grf, build_body(), out)
         assert _is_fifo(tmp_path / name) and sorted(os.listdir(tmp_path)) == [name]
         (tmp_path / name).unlink()
-    # negative control: regular files at the same places are replaced
+    # negative control: an earlier calibration's regular files at the same places are replaced
+    out.write_text('{"walk3d_calibration": 1}')
     for name in ("cal_rollover.png", "cal_transition.png"):
         (tmp_path / name).write_text("the earlier figure")
     code, _, err = cli(capsys, "calibrate", "--ik", ik, "--grf", grf, "--out", out)
@@ -87,7 +88,8 @@ def test_audit_refuses_a_fifo_at_its_default_file(tmp_path, capsys):
     assert _is_fifo(tracked / "audit.json")
     # negative control: with a regular file there, the check passes and the folder is read
     (tracked / "audit.json").unlink()
-    (tracked / "audit.json").write_text("{}")
+    (tracked / "audit.json").write_text('{"criterion": "", "terms": [], "limb_work": {}, '
+                                        '"bursts": {}}')  # an earlier audit  # fmt: skip
     code, _, err = cli(capsys, "audit", tracked, tmp_path)
     assert code == 2 and "not a regular file" not in err, err
 

@@ -164,3 +164,20 @@ def test_odd_types_in_a_folder_are_one_line_exit_2_and_text_is_escaped(result_fo
     assert r.returncode == 2, (r.stdout, r.stderr)
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and "unexpected content" in lines[0] and "Traceback" not in r.stderr
+
+
+@pytest.mark.parametrize("rel", ["report.html", "sub/page.html"])
+def test_a_page_inside_another_result_folder_is_refused(fresh_folder, tmp_path, capsys, rel):
+    """report A --out B/report.html replaced B's page with A's, and B's manifest then listed
+    the wrong size; the control writes A's page into A itself (its own, listed there)."""
+    from helpers import cli, one_line_error
+
+    other = shutil.copytree(fresh_folder, tmp_path / "other")
+    refused = cli(capsys, "report", fresh_folder, "--out", other / rel)
+    one_line_error(refused, f"--out {other / rel} is inside the walk3d result folder {other}")
+    assert not (other / "report.html").exists() and not (other / "sub").exists()
+    check_complete(other)
+    code, _, err = cli(capsys, "report", fresh_folder, "--out", fresh_folder / "report.html")
+    assert code == 0, err
+    files = json.loads((fresh_folder / "manifest.json").read_text())["files"]
+    assert files["report.html"] == (fresh_folder / "report.html").stat().st_size

@@ -32,11 +32,12 @@ from walk3d.calibration.fit import (
 from walk3d.io.calibration import read_calibration, write_calibration
 from walk3d.io.checks import positive_numbers
 from walk3d.io.storage import read_storage
-from walk3d.outputs import check_output_file, replace_files, write_errors
+from walk3d.outputs import check_output_file, json_holds, replace_files, write_errors
 from walk3d.trials.descriptors import descriptors_from_trial, foot_loads
 from walk3d.trials.kinematics import kinematics_from_storage
 
-__all__ = ["CalibrationResult", "calibrate_from_trial", "figure_paths", "load_calibration"]
+__all__ = ["CalibrationResult", "calibrate_from_trial", "check_calibration_out", "figure_paths",
+           "load_calibration"]  # fmt: skip
 
 
 def figure_paths(out: str | PathLike[str]) -> tuple[Path, Path]:
@@ -44,6 +45,35 @@ def figure_paths(out: str | PathLike[str]) -> tuple[Path, Path]:
     path = Path(out)
     return (path.with_name(f"{path.stem}_rollover.png"),
             path.with_name(f"{path.stem}_transition.png"))  # fmt: skip
+
+
+def check_calibration_out(
+    out: str | PathLike[str],
+    ik: str | PathLike[str] | None,
+    grf: str | PathLike[str] | None,
+    figures: bool = True,
+    option: str = "out",
+) -> None:
+    """Refuse, before any work, a calibration file ``out`` that is not a ``.json`` walk3d may
+    write (:func:`walk3d.outputs.check_output_file`): the trial's ``ik`` or ``grf`` file, a
+    file in a walk3d result folder, an existing file that is not a walk3d calibration; or
+    whose figures (:func:`figure_paths`) exist without an earlier calibration ``out`` that
+    they would belong to. ValueError, one line naming ``option``."""
+    dash = "--" if option.startswith("--") else ""
+    inputs = {f"{dash}ik": ik, f"{dash}grf": grf}
+    check_output_file(out, option, ".json", inputs=inputs,
+                      existing=("walk3d calibration", _is_calibration))  # fmt: skip
+    earlier = Path(out).is_file()  # a walk3d calibration, checked above: its figures are
+    for figure in figure_paths(out) if figures else ():
+        check_output_file(figure, "the figure", inputs=inputs)  # none a device or FIFO either
+        if figure.exists() and not earlier:
+            raise ValueError(f"{option} {out}: the figure {figure} written beside it exists, "
+                             f"with no earlier calibration {Path(out).name} it belongs to; "
+                             f"move it or name another {option}")  # fmt: skip
+
+
+def _is_calibration(path: Path) -> bool:
+    return json_holds(path, "walk3d_calibration")
 
 
 @dataclass(frozen=True)
@@ -66,14 +96,14 @@ def calibrate_from_trial(
     speed: float | None = None,
     figures: bool = True,
 ) -> CalibrationResult:
-    """Calibrate ``body``'s subject from one trial; write ``out`` and its figures when given,
-    all or none (built aside, then moved into place: :func:`walk3d.outputs.replace_files`;
-    OutputWriteError when they cannot be written). ValueError for a ``threshold`` or
-    ``speed`` that is not a finite positive number, before any work."""
+    """Calibrate ``body``'s subject from one trial; write ``out`` (a ``.json`` file,
+    :func:`check_calibration_out`) and its figures when given, all or none (built aside, then
+    moved into place: :func:`walk3d.outputs.replace_files`; OutputWriteError when they cannot
+    be written). ValueError for a ``threshold`` or ``speed`` that is not a finite positive
+    number, before any work."""
     positive_numbers(threshold=threshold, speed=speed)
-    if out is not None:  # every file it writes: a device, FIFO or socket is refused now
-        for target in (out, *(figure_paths(out) if figures else ())):
-            check_output_file(target, "out")
+    if out is not None:  # every file it writes: an input, a user's file... refused now
+        check_calibration_out(out, ik, grf, figures)
     ik_s = read_storage(ik)
     loads = foot_loads(grf)
     desc = descriptors_from_trial(ik_s, loads, threshold=threshold, speed=speed)

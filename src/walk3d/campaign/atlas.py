@@ -117,14 +117,12 @@ def check_atlas_paths(
         check_folder_of_folders,
         check_output_file,
         check_output_folder,
-        result_folder_around,
+        check_outside_results,
     )
 
     for option, folder in (("--work", work_dir), ("--out", out_dir)):
-        inside = result_folder_around(folder) if folder else None
-        if inside is not None:
-            raise ValueError(f"{option} {folder} is inside the walk3d result folder {inside}; "
-                             "use a folder of its own")  # fmt: skip
+        if folder:
+            check_outside_results(folder, option)
     check_folder_of_folders(work_dir, "--work", "sweep.json")
     root = check_output_folder(Path(out_dir) if out_dir else ATLAS_DIR, "--out")
     if any((root / name).exists() for name in ("summary.json", "manifest.json", "sweep.json")):

@@ -48,7 +48,7 @@ def animate(
 
     folder = Path(pred_dir)
     target = Path(out) if out is not None else folder / "animation.mp4"
-    check_output_file(str(target), suffix=".mp4")
+    check_output_file(str(target), suffix=".mp4", home=folder)  # not in another result
     inside = target.parent.resolve() == folder.resolve() and target.name == "animation.mp4"
     try:
         pred = load_result(folder, remade=(target.name,) if inside else ())

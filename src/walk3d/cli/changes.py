@@ -54,7 +54,8 @@ EqualSteps = Annotated[
     bool,
     typer.Option("--equal-steps", rich_help_panel=CHANGES,
                  help="Hold the full cycle's right and left steps equal in length (by default "
-                 "the stride splits freely, at a cost; docs/what-if.md)."),
+                 "the stride splits freely, at a cost; docs/what-if.md); needs --full-cycle or "
+                 "a one-sided change."),
 ]  # fmt: skip
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 import sys
-from typing import Annotated
+from typing import Annotated, Any
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
@@ -267,28 +267,29 @@ def positive_options(**values: float | None) -> None:
             fail(f"--{name.replace('_', '-')}{str(exc)[len(name) :]}")
 
 
-def check_output_folder(
-    path: str, option: str = "--out", replaces: str | None = None, own: tuple[str, ...] = ()
-) -> None:
-    """Refuse, before any work starts, an output folder that is an existing file, cannot be
-    created or written, or (with ``replaces``) is a folder of other files (than ``own``, when
-    given): one line and exit code 2 (:func:`walk3d.outputs.check_output_folder`, the API's
-    check too)."""
+def check_output_folder(path: str, option: str = "--out", replaces: str | None = None,
+                        own: tuple[str, ...] = (), **checks: Any) -> None:  # fmt: skip
+    """Refuse, before any work, an output folder that is a file, cannot be written, lies in a
+    result folder (but ``home``) or holds other files than a ``replaces`` result (and ``own``):
+    one line and exit 2 (:func:`walk3d.outputs.check_output_folder`, the API's check too)."""
     from walk3d.outputs import check_output_folder as check
 
     try:
-        check(path, option, replaces, own or None)
+        check(path, option, replaces, own or None, **checks)
     except ValueError as exc:
         fail(str(exc))
 
 
-def check_output_file(path: str, option: str = "--out", suffix: str | None = None) -> None:
-    """Refuse, before any work starts, an output file that is a folder, lacks ``suffix`` or
-    cannot be created: one line and exit code 2 (:func:`walk3d.outputs.check_output_file`)."""
+def check_output_file(
+    path: str, option: str = "--out", suffix: str | None = None, **checks: Any
+) -> None:
+    """Refuse, before any work, an output file that is a folder, lacks ``suffix``, cannot be
+    created, lies in a result folder (but ``home``), is an input or is not walk3d's (``inputs``,
+    ``existing``): one line and exit 2 (:func:`walk3d.outputs.check_output_file`)."""
     from walk3d.outputs import check_output_file as check
 
     try:
-        check(path, option, suffix)
+        check(path, option, suffix, **checks)
     except ValueError as exc:
         fail(str(exc))
 
@@ -346,6 +347,7 @@ def gait_fields(
 
 def settings_from_options(criterion: str, solver: str, seed: int, **fields):
     """Validated PredictionSettings from command-line values, or one error line and exit 2."""
+    from walk3d.model.settings import equal_steps_unused
     from walk3d.problem.settings import PredictionSettings, first_error
 
     criterion = criterion_option(criterion)
@@ -359,6 +361,9 @@ def settings_from_options(criterion: str, solver: str, seed: int, **fields):
         fail(first_error(exc))
     if solver == "sqp" and settings.model.split_terms:
         fail("--split-terms needs --solver ipopt (the SLSQP baseline solves the paper's split)")
+    if equal_steps_unused(settings.model):  # as walk3d.api.settings refuses it
+        fail("--equal-steps needs --full-cycle or a one-sided change (a name ending in _r or "
+             "_l, --leg-length-difference): the half cycle's steps are equal already")  # fmt: skip
     if settings.solver.linear_solver != "mumps" and solver == "ipopt":
         from walk3d.solve.options import linear_solver_error
 

@@ -32,20 +32,20 @@ def report(
     animation if DIR has one; for a campaign, its starts, the five best and the best
     prediction. Written atomically; a page written into a prediction folder is listed in its
     manifest, and made again when deleted. Exit code 2 for a folder of neither kind, a bad
-    option or a --data folder whose tables are malformed or hold NaN or infinite values; 3 if
-    it cannot be written."""
+    option (an --out inside another walk3d result folder too) or a --data folder whose
+    tables are malformed or hold NaN or infinite values; 3 if it cannot be written."""
     from walk3d.report.norms import SOURCES, find_data, load_norms
     from walk3d.report.writer import build_report, save_report
 
     target = Path(out) if out is not None else None
     if target is not None and target.suffix.lower() not in (".html", ".htm"):
         fail(f"--out must name an .html file, got {target}")
-    if target is not None:
-        check_output_file(str(target))  # a folder, a device, FIFO or socket: refused
     if not Path(folder).is_dir():
         fail(f"{folder} is not a folder")
-    if target is None:
-        check_output_file(str(Path(folder) / "report.html"), "the page")  # as --out is
+    if target is not None:  # a folder, device, FIFO, another result's file: refused
+        check_output_file(str(target), home=folder)
+    else:
+        check_output_file(str(Path(folder) / "report.html"), "the page", home=folder)
     found = find_data(data)
     if data is not None and found is None:
         names = ", ".join(rel for rel, _ in SOURCES)

@@ -155,29 +155,43 @@ def audit(
     term per gait phase and in total (raw, and weighted as the criterion weighs it), each leg's
     centre-of-mass work in double support, and the right leg's joint-power bursts (J/kg).
     Written as JSON to TRACKED/audit.json, whose report.html then shows it, or to --out.
-    Exit code 2 for a folder that is not a complete result or an --out that cannot be a JSON
-    file (checked before the audit), 3 if it cannot be written."""
+    TRACKED may be a prediction too (two predicted gaits, charged by PREDICTED's criterion;
+    one warning line says so). Exit code 2 for a folder that is not a complete result or an
+    --out that cannot be a JSON file, lies in a walk3d result folder (but TRACKED/audit.json)
+    or is an existing file other than an earlier audit (checked before the audit), 3 if it
+    cannot be written."""
     import json
+    import sys
     from pathlib import Path
 
     from walk3d.io.atomic import atomic_write_text
     from walk3d.io.errors import DataFileError
+    from walk3d.outputs import same_path
+    from walk3d.results.audit import is_audit_file, is_tracking
     from walk3d.tracking import audit as run
 
-    if out is not None:  # a folder, device, FIFO, non-UTF-8 or too long name: refused now
-        check_output_file(out, suffix=".json")
+    default = Path(tracked) / "audit.json"
+    own = out is None or (Path(tracked).is_dir() and same_path(out, default))
+    kind = ("walk3d audit", is_audit_file)  # an earlier audit is replaced, nothing else
+    if not own:  # a folder, device, result's file, user's file...: refused now
+        check_output_file(out, suffix=".json", existing=kind)
     elif Path(tracked).is_dir():  # the default, refused alike
-        check_output_file(str(Path(tracked) / "audit.json"), "the audit")
+        check_output_file(str(default), "--out" if out else "the audit", home=tracked,
+                          existing=kind)  # fmt: skip
     try:
         with console.status("walk3d: auditing"):
             result = run(tracked, predicted)
     except (OSError, DataFileError, ValueError) as exc:
         fail(" ".join(str(exc).split()))
+    if not is_tracking(tracked):
+        sys.stderr.write(f"walk3d: warning: TRACKED {tracked} is a prediction, not a tracking "
+                         "(walk3d track): the audit compares two predicted gaits, its "
+                         f"'tracked' columns are {tracked}'s\n")  # fmt: skip
     _audit_tables(result)
-    target = Path(out) if out is not None else Path(tracked) / "audit.json"
+    target = default if own else Path(out)
     try:
         atomic_write_text(target, json.dumps(result, indent=1) + "\n")
-        if out is None:
+        if own:
             from walk3d.report.writer import write_report_or_warn
             from walk3d.results.prediction import record_file
 

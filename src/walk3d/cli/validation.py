@@ -15,7 +15,6 @@ from walk3d.cli.common import (
     PlateThreshold,
     Sex,
     app,
-    check_output_file,
     console,
     fail,
     input_file,
@@ -48,8 +47,8 @@ def validate(
     (criteria and their x/y/z split) and figures, written to --out all together, in place of
     an earlier validation there. A prediction that did not converge or does not walk is named
     in a warning line, and its score's failure printed. Exit code 2 for bad input (also an
-    --out that is a file or a folder holding files walk3d did not write), 3 if the folder
-    cannot be written (nothing is changed)."""
+    --out that is a file, a folder holding files walk3d did not write or lies in another walk3d
+    result folder), 3 if the folder cannot be written (nothing is changed)."""
     from walk3d.cli.labels import warn_if_invalid
     from walk3d.io.errors import DataFileError, OutputWriteError
     from walk3d.results.labels import did_not_converge
@@ -65,7 +64,7 @@ def validate(
         fail(f"cannot read the prediction {pred_dir}: {' '.join(str(exc).split())}")
     target = out if out is not None else os.path.join(pred_dir, VALIDATION_FOLDER)
     try:
-        check_validation_folder(target, "--out")
+        check_validation_folder(target, "--out", home=pred_dir)  # not in another result
     except ValueError as exc:
         fail(str(exc))
     try:
@@ -117,7 +116,14 @@ def calibrate(
     grf: Annotated[
         str, typer.Option("--grf", help="GRF .mot of the same trial.", callback=input_file)
     ],
-    out: Annotated[str, typer.Option("--out", help="Calibration file to write (.json).")],
+    out: Annotated[
+        str,
+        typer.Option(
+            "--out",
+            help="Calibration file to write (.json), with its figures "
+            "OUT_rollover.png and OUT_transition.png beside it.",
+        ),
+    ],
     mass: Mass = 68.8,
     height: Height = 1.77,
     sex: Sex = "male",
@@ -126,17 +132,20 @@ def calibrate(
 ) -> None:
     """Fit the stance-foot roll-over and the double-support transition ratios to a trial and
     write them to a calibration file, with the figures OUT_rollover.png and
-    OUT_transition.png beside it: all three or none. Exit code 2 for bad input, 3 if they
-    cannot be written (nothing is changed)."""
+    OUT_transition.png beside it: all three or none. Exit code 2 for bad input (also an --out
+    that is not .json, is the trial's file, lies in a walk3d result folder or is a file other
+    than an earlier calibration, or figures there without one), 3 if they cannot be written
+    (nothing is changed)."""
     from walk3d.body.model import build_body
-    from walk3d.calibration.calibrate import calibrate_from_trial, figure_paths
+    from walk3d.calibration.calibrate import calibrate_from_trial, check_calibration_out
     from walk3d.calibration.tables import calibration_table
     from walk3d.io.errors import DataFileError, OutputWriteError
 
     positive_options(mass=mass, height=height, threshold=threshold, speed=speed)  # before work
-    check_output_file(out)
-    for figure in figure_paths(out):  # written beside it: none a device or FIFO either
-        check_output_file(str(figure), "the figure")
+    try:  # the API's check: not an input, a result's file, a user's file or their figures
+        check_calibration_out(out, ik, grf, option="--out")
+    except ValueError as exc:
+        fail(str(exc))
     if sex not in ("male", "female"):
         fail(f"--sex must be 'male' or 'female', got {sex!r}")
     try:

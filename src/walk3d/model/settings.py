@@ -24,8 +24,8 @@ from walk3d.model.element import Element
 from walk3d.model.tracking import Tracking
 from walk3d.model.whatif import Changes
 
-__all__ = ["ModelSettings", "Role", "SettingsGroup", "elements", "is_on", "keyed_fields",
-           "node_fields", "opt_in", "role"]  # fmt: skip
+__all__ = ["ModelSettings", "Role", "SettingsGroup", "elements", "equal_steps_unused", "is_on",
+           "keyed_fields", "node_fields", "opt_in", "role"]  # fmt: skip
 
 _ALWAYS = object()
 
@@ -296,3 +296,10 @@ def node_fields(model: BaseModel) -> dict[str, Any]:
     out = {n: v for n, v in keyed_fields(model).items() if role(cls, n).nodes}
     user = terms.fingerprint(model.criterion)
     return out | ({"criterion_terms": user} if user else {})
+
+
+def equal_steps_unused(model: ModelSettings) -> bool:
+    """Whether ``equal_steps`` is set where it does nothing: without ``full_cycle`` or a
+    one-sided change the prediction solves the half cycle, one step mirrored, whose two steps
+    are equal already. Not a settings error, so that results recorded with it still load."""
+    return model.equal_steps and not (model.full_cycle or model.changes.one_sided)

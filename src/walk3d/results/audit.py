@@ -15,11 +15,40 @@ All of it reads an evaluated cycle (:class:`walk3d.results.evaluate.CycleEvaluat
 
 from __future__ import annotations
 
+from os import PathLike
+from pathlib import Path
+
 import numpy as np
 
 from walk3d.model import terms
 
-__all__ = ["BURSTS", "PHASES", "limb_work", "phase_masks", "power_bursts", "term_table"]
+__all__ = ["AUDIT_KEYS", "BURSTS", "PHASES", "is_audit_file", "is_tracking", "limb_work",
+           "phase_masks", "power_bursts", "term_table"]  # fmt: skip
+
+AUDIT_KEYS = ("criterion", "terms", "limb_work", "bursts")
+"""Keys every audit file holds (:func:`walk3d.tracking.audit`): how walk3d knows an earlier
+audit, which ``walk3d audit --out`` replaces, from a user's JSON file, which it keeps."""
+
+
+def is_audit_file(path: str | PathLike[str]) -> bool:
+    """Whether ``path`` is a JSON object with every one of :data:`AUDIT_KEYS`."""
+    from walk3d.outputs import json_holds
+
+    return json_holds(path, *AUDIT_KEYS)
+
+
+def is_tracking(folder: str | PathLike[str]) -> bool:
+    """Whether the result folder ``folder`` records a tracking (``walk3d track``: settings with
+    a measured gait to follow); False for a prediction or a summary that cannot be read."""
+    from walk3d.io.checks import read_json_object
+    from walk3d.problem.settings import recorded_settings
+
+    try:
+        summary = read_json_object(Path(folder) / "summary.json", "walk3d summary")
+    except (OSError, ValueError):
+        return False
+    return recorded_settings(summary).get("tracking") is not None
+
 
 PHASES = ("loading", "mid-stance", "push-off", "swing")
 """The right leg's phases: heel strike to the other foot's toe-off (Td), then to 30 % of the

@@ -36,7 +36,7 @@ from walk3d.io.storage import read_storage
 from walk3d.io.tables import write_csv_table
 from walk3d.outputs import check_output_folder, write_errors
 from walk3d.problem.settings import recorded_settings
-from walk3d.results.prediction import VALIDATION_FILES, PredictedCycle
+from walk3d.results.prediction import VALIDATION_FILES, VALIDATION_FOLDER, PredictedCycle
 from walk3d.trials.c3d_trial import parse_axis
 from walk3d.trials.kinematics import kinematics_from_storage, kinematics_from_table
 from walk3d.trials.trial import Trial, classify_storage, load_c3d_trial, load_trial
@@ -56,11 +56,19 @@ VALIDATION_MARK = "table2.csv"
 """The file every validation folder holds: only such a folder is replaced by another."""
 
 
-def check_validation_folder(out_dir: str | PathLike[str], option: str = "out_dir") -> Path:
-    """Refuse an output folder that is a file, cannot be written, or is not an earlier
-    validation of only walk3d's files (:data:`~walk3d.results.prediction.VALIDATION_FILES`):
-    ValueError, one line. ``walk3d validate --out``'s check too."""
-    return check_output_folder(out_dir, option, replaces=VALIDATION_MARK, own=VALIDATION_FILES)
+def check_validation_folder(
+    out_dir: str | PathLike[str], option: str = "out_dir", home: str | PathLike[str] | None = None
+) -> Path:
+    """Refuse an output folder that is a file, cannot be written, is not an earlier validation
+    of only walk3d's files (:data:`~walk3d.results.prediction.VALIDATION_FILES`) or lies in a
+    walk3d result folder other than ``home`` (default: a result folder holding it directly as
+    ``validation``, where walk3d validate writes): ValueError, one line. ``walk3d validate
+    --out``'s check too."""
+    out = Path(out_dir)
+    if home is None and out.name == VALIDATION_FOLDER:
+        home = out.parent
+    return check_output_folder(out_dir, option, replaces=VALIDATION_MARK, own=VALIDATION_FILES,
+                               home=home)  # fmt: skip
 
 
 @dataclass(frozen=True)
