@@ -40,6 +40,7 @@ from walk3d.cli.common import (
     scheduler_option,
     settings_from_options,
 )
+from walk3d.cli.warning_lines import warning_lines
 from walk3d.model.terms import DEFAULT_PRESET
 
 
@@ -128,8 +129,9 @@ def campaign(
         compile_with_progress(settings, console)
 
     try:
-        report = run_campaign(settings, starts, seed, out, workers=workers, scheduler=scheduler,
-                              solver=solver, console=console)  # fmt: skip
+        with warning_lines():  # a damaged start run again: one line
+            report = run_campaign(settings, starts, seed, out, workers=workers,
+                                  scheduler=scheduler, solver=solver, console=console)  # fmt: skip
     except CampaignMismatch as exc:
         fail(" ".join(str(exc).split()))
     except OSError as exc:
