@@ -113,8 +113,22 @@ def _to_float(path: Path, line: int, cell: str, what: str) -> float:
     return value
 
 
+def _no_repeats(path: Path, line: int, names: list[str], cells: list[str] | None = None) -> None:
+    """Refuse a header whose ``names`` (as read; ``cells``: as written) hold one twice: the
+    reader would keep one of them and silently ignore the other."""
+    seen: dict[str, int] = {}
+    for k, name in enumerate(names):
+        if name in seen:
+            shown = name if cells is None else cells[k]
+            again = "" if cells is None or cells[seen[name]] == shown else (
+                f" (as {cells[seen[name]]!r} and {shown!r})")  # fmt: skip
+            raise DataFileError(path, f"column {shown!r} appears twice{again}", line)
+        seen[name] = k
+
+
 def _read_wide(path: Path, rows: list[tuple[int, list[str]]]) -> CycleTable:
     head_line, header = rows[0]
+    _no_repeats(path, head_line, [c for c in header if c])
     names: list[str] = []
     for cell in header[1:]:
         if cell.endswith("_mean"):
@@ -166,6 +180,7 @@ def _read_winter(path: Path, rows: list[tuple[int, list[str]]], start: int) -> C
         cols.append(i)
         names.append(_snake(cell) + (f"_{unit}" if unit else ""))
         units.append(unit)
+    _no_repeats(path, head_line, names, [header[i].strip() for i in cols])
     percent, mean = [], []
     for line, cells in rows[start + 2 :]:
         if not any(cells):
@@ -202,7 +217,8 @@ def read_cycle_table(path: str | PathLike[str]) -> CycleTable:
     """Read a cycle-table CSV (wide mean/SD or Winter layout, see the module doc).
 
     Raises:
-        DataFileError: No recognisable header, a row of the wrong length, a cell longer than
+        DataFileError: No recognisable header, a column named twice, a row of the wrong
+            length, a cell longer than
             the csv module's limit, a non-number, a non-finite value, one beyond
             :data:`MAX_ABS_VALUE` or a negative SD; or no gait cycle (:func:`_cycle`): too few
             rows, the percent not increasing over 0-100 %, every column constant.
