@@ -60,8 +60,8 @@ def test_bad_cycle_table(tmp_path: Path, falisse: Path) -> None:
 
 @pytest.mark.parametrize(
     ("column", "value", "words"),
-    [("hip_flexion_deg_mean", "1e300", "beyond ±1e+06"),
-     ("hip_flexion_deg_mean", "-2e6", "beyond ±1e+06"),
+    [("hip_flexion_moment_Nm_per_kg_mean", "1e300", "beyond ±1e+06"),  # an angle: below
+     ("hip_flexion_moment_Nm_per_kg_mean", "-2e6", "beyond ±1e+06"),
      ("hip_flexion_deg_sd", "-5", "negative SD")],
 )  # fmt: skip
 def test_absurd_values_and_negative_sd_are_refused(tmp_path, falisse, column, value, words):

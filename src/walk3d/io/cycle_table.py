@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from walk3d.io.angle_units import check_angles
 from walk3d.io.checks import increasing, read_input
 from walk3d.io.errors import DataFileError
 
@@ -199,7 +200,8 @@ def _read_winter(path: Path, rows: list[tuple[int, list[str]]], start: int) -> C
 
 def _cycle(path: Path, table: CycleTable) -> CycleTable:
     """``table`` if it is a gait cycle: :data:`MIN_ROWS` rows or more, percent increasing
-    within 0-100 and covering :data:`COVERAGE`, not every mean constant."""
+    within 0-100 and covering :data:`COVERAGE`, not every mean constant, and angles plausible
+    for their ``_deg`` or ``_rad`` unit (:mod:`walk3d.io.angle_units`)."""
     n = table.percent.size
     if n < MIN_ROWS:
         raise DataFileError(path, f"{n} data rows: a cycle table needs {MIN_ROWS} or more")
@@ -210,6 +212,12 @@ def _cycle(path: Path, table: CycleTable) -> CycleTable:
                             f"{percent[-1]:g}, not over 0-100 % of a cycle")  # fmt: skip
     if table.names and (np.ptp(table.mean, axis=0) == 0).all():
         raise DataFileError(path, "every column is constant over the cycle")
+    scale = {"deg": 1.0, "rad": np.degrees(1.0)}
+    angles = {name: scale[unit] * table.mean[:, k]
+              for k, (name, unit) in enumerate(zip(table.names, table.units, strict=True))
+              if unit in scale}  # fmt: skip
+    units = sorted({unit for unit in table.units if unit in scale})
+    check_angles(path, angles, " or ".join(f"_{u} columns" for u in units) or "degrees")
     return table
 
 

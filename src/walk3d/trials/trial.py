@@ -16,6 +16,7 @@ from dataclasses import dataclass, replace
 from os import PathLike
 from pathlib import Path
 
+from walk3d.io.angle_units import check_storage_angles
 from walk3d.io.external_loads import FootLoads, find_plates
 from walk3d.io.storage import Storage, read_storage
 from walk3d.trials.c3d_trial import read_c3d_trial
@@ -82,14 +83,18 @@ def load_trial(
     """Read a trial's files (any may be None) and its descriptors when the GRF is given.
 
     Raises:
-        DataFileError: A file is malformed. ValueError: the plates cannot be assigned or the
-        events do not give a period / double support.
+        DataFileError: A file is malformed, or the IK's angles are implausible for its
+            ``inDegrees`` (:mod:`walk3d.io.angle_units`).
+        ValueError: the plates cannot be assigned or the events do not give a period / double
+            support.
     """
 
     def read(x):
         return None if x is None else (x if isinstance(x, Storage) else read_storage(x))
 
     ik_s, grf_s, id_s = read(ik), read(grf), read(inverse_dynamics)
+    if ik_s is not None:
+        check_storage_angles(ik_s)  # angles in another unit than the header's
     for other, kind in ((ik_s, "IK"), (id_s, "ID")):
         check_overlap(other, grf_s, kind)
     loads = None if grf_s is None else foot_loads(grf_s)
