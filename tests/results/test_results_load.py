@@ -134,3 +134,20 @@ def test_eleven_increasing_samples_are_a_cycle(copy):
     """Negative control: the fewest samples accepted (walk3d writes 101)."""
     replace_result_file(copy, "result.npz", _npz(copy, **_time_first(copy, slice(0, 11))))
     assert load_result(copy).n_nodes == 11
+
+
+@pytest.mark.parametrize(("marker", "words"), [
+    ("sweep.json", "is a sweep folder, not a prediction: give one of its speed folders"),
+    ("campaign.json", "is a campaign folder, not a prediction: give its best/"),
+])  # fmt: skip
+def test_a_sweep_or_campaign_folder_is_named_as_such(tmp_path, capsys, saved, marker, words):
+    """Was "incomplete result folder: no manifest.json" (compare, validate, report...)."""
+    from helpers import cli, one_line_error
+
+    folder = tmp_path / "f"
+    folder.mkdir()
+    (folder / marker).write_text("{}\n")
+    _refused(folder, words)
+    one_line_error(cli(capsys, "compare", saved, folder, "--out", tmp_path / "c"), words)
+    (folder / marker).unlink()  # control: a folder of nothing is an incomplete result
+    _refused(folder, "incomplete result folder: no manifest.json")

@@ -56,6 +56,7 @@ from walk3d.io.checks import (
 )
 from walk3d.io.errors import DataFileError
 from walk3d.io.osim import write_osim
+from walk3d.results.folder_kind import not_a_prediction
 from walk3d.results.inverse_dynamics import write_inverse_dynamics
 from walk3d.results.lab_trial import write_markers_c3d
 from walk3d.results.opensim import write_grf, write_motion
@@ -290,6 +291,7 @@ def check_complete(out_dir: str | PathLike[str], remade: Collection[str] = ()) -
     if not out.is_dir():
         raise DataFileError(out, "not a result folder")
     if not path.is_file():
+        not_a_prediction(out)
         raise DataFileError(
             out, f"incomplete result folder: no {MANIFEST} (written last by walk3d predict)"
         )
