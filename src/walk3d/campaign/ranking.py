@@ -141,10 +141,14 @@ def _yes_no(value: Any) -> str:
     return "-" if value is None else ("yes" if value else "no")
 
 
-def top_table(rows: list[dict], criterion: str, n: int = 5, title: str | None = None) -> Table:
+def top_table(
+    rows: list[dict], criterion: str, n: int = 5, title: str | None = None, per_metre: bool = False
+) -> Table:
     """A Rich table of the ``n`` best starts: the chosen criterion, and the x/y/z split of its
-    base (C_tor or C_en)."""
+    base (C_tor or C_en). ``per_metre``: the criterion values are per metre walked (T or Td
+    predicted, :data:`COLUMNS`), and the column says so; the split is per cycle."""
     key, split = terms.label(criterion), f"C_{terms.base(criterion)}"
+    key = f"{key} per m" if per_metre else key
     t = Table(title=title or f"best {min(n, len(rows))} of {len(rows)} starts by {key}")
     xyz = ("x", "y", "z") if key == split else (f"{split} x", "y", "z")
     for col in ("rank", "seed", "conv.", key, *xyz, "iter", "walking"):

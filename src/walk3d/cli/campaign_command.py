@@ -136,7 +136,7 @@ def campaign(
         fail(" ".join(str(exc).split()))
     except OSError as exc:
         fail(str(OutputWriteError(out, exc)), code=EXIT_WRITE)
-    console.print(top_table(report.rows, case["criterion"]))
+    console.print(top_table(report.rows, case["criterion"], per_metre=bool(settings.gait.free)))
     retried = f", {report.retried} retried after an environment failure" if report.retried else ""
     console.print(
         f"{len(report.rows)} starts in {out}: {report.converged} converged, "
