@@ -52,6 +52,7 @@ def validate(
     --out that is a file or a folder holding files walk3d did not write), 3 if the folder
     cannot be written (nothing is changed)."""
     from walk3d.cli.labels import warn_if_invalid
+    from walk3d.cli.warning_lines import warning_lines
     from walk3d.io.errors import DataFileError, OutputWriteError
     from walk3d.results.labels import did_not_converge
     from walk3d.results.prediction import VALIDATION_FOLDER, load_result
@@ -71,7 +72,7 @@ def validate(
     except ValueError as exc:
         fail(str(exc))
     try:
-        with console.status("walk3d: validating"):
+        with console.status("walk3d: validating"), warning_lines():  # never numpy's form
             v = run(
                 {"prediction": pred}, reference, target,
                 threshold=threshold, speed=speed, forward=forward,
