@@ -33,12 +33,9 @@ the free landing); ``period`` and ``double_support`` are compared only when not 
 
 def start_difference(summary: dict, settings: PredictionSettings, seed: int) -> str | None:
     """How a stored prediction differs from the campaign's start ``seed``, as a phrase, or None:
-    its seed, its problem (:func:`~walk3d.campaign.sweep_folder.difference`) and every other
-    setting must be the campaign's. Raises ValueError, KeyError or TypeError for a damaged
+    its problem (:func:`~walk3d.campaign.sweep_folder.difference`), every other setting and
+    its seed must be the campaign's. Raises ValueError, KeyError or TypeError for a damaged
     summary."""
-    got = summary["seed"]
-    if got != seed:
-        return f"was solved with seed {got!r}, not {seed}"
     why = problem_difference(summary, settings, settings.gait.speed)
     if why is not None:
         return why
@@ -50,7 +47,8 @@ def start_difference(summary: dict, settings: PredictionSettings, seed: int) -> 
             continue
         if recorded.get(key) != value:
             return f"was solved with {key} {recorded.get(key)!r}, not {value!r}"
-    return None
+    got = summary["seed"]
+    return None if got == seed else f"was solved with seed {got!r}, not {seed}"
 
 
 def _verified(folder: Path, seed: int, settings: PredictionSettings, record: dict) -> dict:
