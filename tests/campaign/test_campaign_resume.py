@@ -4,13 +4,14 @@ solve: the starts are copies of the atlas's 1.3 m/s result folder (``result_supp
 import contextlib
 import json
 import shutil
+import warnings
 
 import pytest
 from helpers import cli, replace_result_file
 from result_support import result_folder
 
 import walk3d.campaign.runner as runner
-from walk3d.campaign import run_campaign, store
+from walk3d.campaign import rank, run_campaign, store
 from walk3d.campaign.task import record_from_summary
 from walk3d.problem.settings import PredictionSettings
 
@@ -63,7 +64,9 @@ def _start(out, seed):
 
 def test_a_verified_resume_runs_nothing_and_copies_the_best(tmp_path, source, no_solve):
     out = _campaign(tmp_path / "c", source)
-    report = run_campaign(source[1], 2, 0, out, progress=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nothing damaged, nothing rewritten
+        report = run_campaign(source[1], 2, 0, out, progress=False)
     assert no_solve == [] and report.skipped == 2 and report.best_seed == 0
     assert (out / "best" / "result.npz").read_bytes() == (
         _start(out, 0) / "result.npz"
@@ -111,9 +114,13 @@ def test_the_ranking_takes_the_verified_value_not_the_record(tmp_path, source, n
     record = json.loads(path.read_text(encoding="utf-8"))
     true_value = record["criterion_value"]
     path.write_text(json.dumps(record | {"criterion_value": -100.0}), encoding="utf-8")
-    report = run_campaign(source[1], 2, 0, out, progress=False)
+    with pytest.warns(RuntimeWarning, match="record.json did not match its result "
+                      r"\(criterion_value\): rewritten"):  # fmt: skip
+        report = run_campaign(source[1], 2, 0, out, progress=False)
     assert report.best_seed == 0  # a tie, broken by seed: the edit changes nothing
     assert [r["criterion_value"] for r in report.rows] == [true_value, true_value]
+    assert json.loads(path.read_text(encoding="utf-8")) == record  # the report reads it
+    assert [r["criterion_value"] for r in rank(out)] == [true_value, true_value]
 
 
 def test_a_record_only_start_that_claims_convergence_is_run_again(tmp_path, source, no_solve):

@@ -31,6 +31,20 @@ UNCHECKED = ("threads", "handover", "period", "double_support")
 the free landing); ``period`` and ``double_support`` are compared only when not free."""
 
 
+RANKED = (
+    "status",
+    "converged",
+    "failure",
+    "criterion_value",
+    "C_tor",
+    "C_en",
+    "iterations",
+    "looks_like_walking",
+)
+"""Record fields the ranking and the report read: a record whose fields differ from its
+verified result's is rewritten."""
+
+
 def start_difference(summary: dict, settings: PredictionSettings, seed: int) -> str | None:
     """How a stored prediction differs from the campaign's start ``seed``, as a phrase, or None:
     its problem (:func:`~walk3d.campaign.sweep_folder.difference`), every other setting and
@@ -80,7 +94,8 @@ def _verified(folder: Path, seed: int, settings: PredictionSettings, record: dic
 def verified_records(
     out: Path, settings: PredictionSettings, records: dict[int, dict], seeds: list[int]
 ) -> list[int]:
-    """Replace each record of ``records`` (by seed) by the one its verified result gives.
+    """Replace each record of ``records`` (by seed) by the one its verified result gives, and
+    rewrite a ``record.json`` that differs from it in a :data:`RANKED` field (with a warning).
 
     A damaged start among ``seeds`` is deleted, so that it runs again; one outside them (a
     larger earlier ``--starts``) is left out of ``records``. Each gets a warning. Returns the
@@ -91,7 +106,7 @@ def verified_records(
     for seed in sorted(records):
         folder = store.starts_dir(out) / store.start_name(seed)
         try:
-            records[seed] = _verified(folder, seed, settings, records[seed])
+            verified = _verified(folder, seed, settings, records[seed])
         except store.CampaignMismatch:
             raise
         except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
@@ -105,4 +120,12 @@ def verified_records(
                 action = "left out of the ranking"
             warnings.warn(f"{folder} cannot be read ({why}): {action}", RuntimeWarning,
                           stacklevel=2)  # fmt: skip
+            continue
+        changed = [k for k in RANKED if verified.get(k) != records[seed].get(k)]
+        if changed:  # ranking.csv and report.html read the records: they agree with the result
+            store.write_json(folder / store.RECORD_FILE, verified)
+            warnings.warn(f"{folder / store.RECORD_FILE} did not match its result "
+                          f"({', '.join(changed)}): rewritten from it", RuntimeWarning,
+                          stacklevel=2)  # fmt: skip
+        records[seed] = verified
     return again
