@@ -325,3 +325,19 @@ def test_starts_are_ranked_by_the_minimized_value_with_its_what_if_parts():
     assert terms.minimized(objective, "tor") == 3.3
     assert terms.minimized({"C_tor": {"total": 3.2}}, "tor") == 3.2
     assert terms.minimized({}, "tor") is None
+
+
+def test_the_table_says_when_its_values_are_per_metre():
+    """Printed 6.166 under "C_weighted" where predict prints 9.231 per cycle for the same
+    solution: the ranking's value is per metre walked when T or Td is predicted."""
+    from rich.console import Console
+
+    from walk3d.campaign.ranking import top_table
+
+    rows = order_records([record(1, True, 6.166)])
+    for per_metre, label in ((True, "C_tor per m"), (False, "C_tor")):
+        console = Console(width=200, record=True)
+        console.print(top_table(rows, "tor", per_metre=per_metre))
+        title, _, header = console.export_text().splitlines()[:3]
+        assert title.strip().endswith(f"by {label}"), title
+        assert (" per m " in header) is per_metre, header  # control: per cycle, no unit added

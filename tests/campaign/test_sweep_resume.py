@@ -272,8 +272,10 @@ def test_a_damaged_second_pass_record_means_the_tries_are_made_again(tmp_path, s
     run_sweep(SETTINGS, np.array([1.2, 1.3, 1.4]), out)
     (out / "second_pass.json").write_text(text)
     solves.clear()
-    run_sweep(SETTINGS, np.array([1.2, 1.3, 1.4]), out)
+    with pytest.warns(RuntimeWarning, match="second_pass.json cannot be read .*made again"):
+        report = run_sweep(SETTINGS, np.array([1.2, 1.3, 1.4]), out)
     assert solves == [1.3, 1.3]  # 1.3 once more from each neighbour
+    assert (report.ran, report.skipped, report.tries) == (0, 3, 2)  # counted, not hidden
     assert set(json.loads((out / "second_pass.json").read_text())) == {"1.300<1.200",
                                                                         "1.300<1.400"}  # fmt: skip
 
@@ -395,3 +397,26 @@ def test_a_summary_whose_settings_are_at_another_speed_is_refused(tmp_path, solv
     with pytest.raises(SweepMismatch, match="is at 1.4 m/s, not 1.2 m/s"):
         run_sweep(SETTINGS, SPEEDS, out)
     assert solves == []
+
+
+def test_cli_says_a_damaged_second_pass_record_and_counts_its_tries(tmp_path, solves, capsys):
+    """Was silent, and "0 speeds solved, 3 resumed" over two solves."""
+    from walk3d.cli import main
+
+    out = tmp_path / "s"
+    args = ["sweep", "--nodes", "8", "--criterion", "tor", "--speeds", "1.2,1.3,1.4",
+            "--out", str(out)]  # fmt: skip
+    with pytest.raises(SystemExit):
+        main(args)
+    capsys.readouterr()
+    (out / "second_pass.json").write_text("{trunc")
+    with pytest.raises(SystemExit) as info:
+        main(args)
+    stdout, err = capsys.readouterr()
+    assert info.value.code == 0 and len(err.strip().splitlines()) == 1, err
+    assert err.startswith("walk3d: warning:") and "second_pass.json cannot be read" in err
+    assert "0 speeds solved, 3 resumed, 2 second-pass tries" in " ".join(stdout.split())
+    with pytest.raises(SystemExit) as info:  # control: the record rewritten, nothing tried
+        main(args)
+    stdout, err = capsys.readouterr()
+    assert info.value.code == 0 and err == "" and "second-pass" not in stdout

@@ -122,3 +122,19 @@ def test_cache_clear_removes_a_folder_in_an_entrys_place(tmp_path):
     r = _cache(tmp_path, "--clear")
     assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
     assert sorted(tmp_path.iterdir()) == []
+
+
+def test_a_cache_path_that_is_a_file_is_said_so(tmp_path):
+    """Was "0 model entries" and exit 0, for --clear too."""
+    path = tmp_path / "afile"
+    path.write_text("mine")
+    r = _cache(path)
+    assert r.returncode == 0 and "entries" not in r.stdout, r.stdout
+    assert r.stderr == f"walk3d: warning: the model cache {path} is not a folder: walk3d runs " \
+        "without the cache\n"  # fmt: skip
+    r = _cache(path, "--clear")
+    assert r.returncode == 2 and r.stderr.startswith("walk3d: error: the model cache"), r.stderr
+    assert "not a folder: nothing to clear" in r.stderr and len(r.stderr.splitlines()) == 1
+    assert path.read_text() == "mine"
+    r = _cache(tmp_path)  # control: a folder is listed, without a warning
+    assert r.returncode == 0 and "0 model entries" in r.stdout and r.stderr == ""

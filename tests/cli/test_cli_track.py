@@ -24,8 +24,11 @@ def _args(ik, grf, out):
 def test_track_needs_one_measured_gait(capsys, tmp_path):
     one_line_error(cli(capsys, "track", "--out", tmp_path / "o"), "--ik", "--table")
     one_line_error(cli(capsys, "track", "--ik", "a.mot", "--out", tmp_path / "o"), "--grf")
-    one_line_error(cli(capsys, "track", "--table", "t.csv", "--ik", "a.mot", "--grf", "b.mot",
-                       "--out", tmp_path / "o"), "--ik", "--table")  # fmt: skip
+    both = cli(capsys, "track", "--table", "t.csv", "--ik", "a.mot", "--grf", "b.mot", "--out",
+               tmp_path / "o")  # fmt: skip
+    one_line_error(both, "not both", "--table and --ik and --grf")
+    one_line_error(cli(capsys, "track", "--table", "t.csv", "--grf", "b.mot",
+                       "--out", tmp_path / "o"), "not both", "--table and --grf")  # fmt: skip
     one_line_error(cli(capsys, "track", "--table", tmp_path / "none.csv", "--out", tmp_path / "o"),
                    "none.csv")  # fmt: skip
     for bad in ("loop", "loop=x", "knee=3", "loop=-1", "loop=1,loop=2"):

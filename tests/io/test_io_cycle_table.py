@@ -60,8 +60,8 @@ def test_bad_cycle_table(tmp_path: Path, falisse: Path) -> None:
 
 @pytest.mark.parametrize(
     ("column", "value", "words"),
-    [("hip_flexion_deg_mean", "1e300", "beyond ±1e+06"),
-     ("hip_flexion_deg_mean", "-2e6", "beyond ±1e+06"),
+    [("hip_flexion_moment_Nm_per_kg_mean", "1e300", "beyond ±1e+06"),  # an angle: below
+     ("hip_flexion_moment_Nm_per_kg_mean", "-2e6", "beyond ±1e+06"),
      ("hip_flexion_deg_sd", "-5", "negative SD")],
 )  # fmt: skip
 def test_absurd_values_and_negative_sd_are_refused(tmp_path, falisse, column, value, words):
@@ -104,3 +104,31 @@ def test_a_cell_past_the_csv_field_limit_is_one_line(tmp_path, capsys) -> None:
     one_line_error(cli(capsys, "track", "--out", tmp_path / "t", "--table", path), "long.csv:4")
     # control: the same table with a plain number there reads
     assert read_cycle_table(_small_table(tmp_path / "ok.csv", "-5.5")).mean.shape == (51, 1)
+
+
+def test_a_column_named_twice_is_refused(tmp_path, falisse) -> None:
+    """Two ``knee_angle_deg_mean`` columns: the second was silently ignored."""
+    path = _small_table(tmp_path / "t.csv")
+    lines = path.read_text().splitlines()
+    twice = [line + "," + line.split(",")[1] for line in lines]
+    twice[0] = lines[0] + ",knee_angle_deg_mean"
+    path.write_text("\n".join(twice) + "\n")
+    with pytest.raises(
+        DataFileError, match=r"^t\.csv:1: column 'knee_angle_deg_mean' appears twice"
+    ):
+        read_cycle_table(path)
+    # negative control: the table less the repeat, and the whole Falisse table, are read
+    assert read_cycle_table(_small_table(tmp_path / "ok.csv")).names == ("knee_angle_deg",)
+    assert len(read_cycle_table(falisse / "cycle_right_leg_mean_sd.csv").names) > 30
+
+
+def test_a_winter_column_named_twice_is_refused(tmp_path, data_dir) -> None:
+    """Winter's layout: a second "knee angle (deg)" column, read under the same name."""
+    lines = (data_dir / "winter" / "Winter_normal.csv").read_text(encoding="utf-8-sig").splitlines()
+    head = next(i for i, line in enumerate(lines) if line.startswith("sample,"))
+    k = lines[head].split(",").index("knee angle    ")
+    twice = [line + "," + line.split(",")[k] if i >= head else line for i, line in enumerate(lines)]
+    path = tmp_path / "w.csv"
+    path.write_text("\n".join(twice) + "\n")
+    with pytest.raises(DataFileError, match=r"^w\.csv:5: column 'knee angle' appears twice"):
+        read_cycle_table(path)

@@ -209,3 +209,13 @@ def test_two_increasing_samples_are_the_fewest_read(tmp_path):
     path = tmp_path / "ik.mot"
     write_storage(path, [0.0, 0.001], ("knee",), [1.0, 2.0], name="ik")
     assert read_storage(path).time.tolist() == [0.0, 0.001]
+
+
+def test_a_column_named_twice_is_one_plain_line(tmp_path: Path) -> None:
+    path = tmp_path / "twice.mot"
+    head = "trial\nnRows=2\nnColumns=3\ninDegrees=yes\nendheader\n"
+    path.write_text(head + "time\tknee_angle_r\tknee_angle_r\n0\t1\t2\n0.01\t1\t2\n")
+    with pytest.raises(DataFileError, match=r"^twice\.mot:6: column 'knee_angle_r' appears twice$"):
+        read_storage(path)
+    path.write_text(head + "time\tknee_angle_r\thip_flexion_r\n0\t1\t2\n0.01\t1\t2\n")  # control
+    assert read_storage(path).columns == ("knee_angle_r", "hip_flexion_r")

@@ -134,3 +134,50 @@ def test_eleven_increasing_samples_are_a_cycle(copy):
     """Negative control: the fewest samples accepted (walk3d writes 101)."""
     replace_result_file(copy, "result.npz", _npz(copy, **_time_first(copy, slice(0, 11))))
     assert load_result(copy).n_nodes == 11
+
+
+@pytest.mark.parametrize(("marker", "words"), [
+    ("sweep.json", "is a sweep folder, not a prediction: give one of its speed folders"),
+    ("campaign.json", "is a campaign folder, not a prediction: give its best/"),
+])  # fmt: skip
+def test_a_sweep_or_campaign_folder_is_named_as_such(tmp_path, capsys, saved, marker, words):
+    """Was "incomplete result folder: no manifest.json" (compare, validate, report...)."""
+    from helpers import cli, one_line_error
+
+    folder = tmp_path / "f"
+    folder.mkdir()
+    (folder / marker).write_text("{}\n")
+    _refused(folder, words)
+    one_line_error(cli(capsys, "compare", saved, folder, "--out", tmp_path / "c"), words)
+    (folder / marker).unlink()  # control: a folder of nothing is an incomplete result
+    _refused(folder, "incomplete result folder: no manifest.json")
+
+
+@pytest.mark.parametrize(("name", "factor", "words"), [
+    ("joint_moment", 1e300, "beyond ±1e+06 N m"),
+    ("grf_force", 1e5, "beyond ±1e+07 N"),
+    ("joint_angle", 1e4, "beyond ±100000 °"),
+])  # fmt: skip
+def test_an_implausible_magnitude_is_refused_under_a_forged_manifest(
+    copy, tmp_path, capsys, name, factor, words
+):
+    """joint_moment x1e300 with the manifest rewritten passed, and validate printed numpy's
+    overflow warnings with file paths and rows labelled "constant reference"."""
+    from helpers import cli, one_line_error
+
+    with np.load(copy / "result.npz") as data:
+        scaled = data[name] * factor
+    replace_result_file(copy, "result.npz", _npz(copy, **{name: scaled}))
+    _refused(copy, "result.npz", name, words, "not a walking result")
+    one_line_error(cli(capsys, "compare", copy, copy, "--out", tmp_path / "c"), name, words)
+
+
+def test_save_refuses_what_load_would_refuse(tmp_path):
+    from dataclasses import replace
+
+    pred = make_prediction(seed=4)
+    with pytest.raises(ValueError, match="joint_moment holds .* beyond ±1e\\+06 N m"):
+        save_prediction(replace(pred, joint_moment=pred.joint_moment * 1e9), tmp_path / "r")
+    assert not (tmp_path / "r").exists()
+    save_prediction(pred, tmp_path / "ok")  # control: the same prediction as it is
+    assert load_result(tmp_path / "ok").n_nodes > 0

@@ -6,7 +6,16 @@ import pytest
 from walk3d.validation.compare import Comparison, Row, rmse
 from walk3d.validation.quantities import quantity
 from walk3d.validation.reference import Reference
-from walk3d.validation.score import CAP, FAILED, knee_loading_peak, score
+from walk3d.validation.score import (
+    CAP,
+    FAILED,
+    SCORED,
+    check_scored,
+    knee_loading_peak,
+    missing_scored,
+    score,
+    score_json,
+)
 
 P = np.linspace(0.0, 100.0, 101)
 MEASURED = {
@@ -74,3 +83,22 @@ def test_predicted_double_support_is_scored_against_the_measured():
 def test_a_gait_that_failed_scores_failed(summary, why):
     s = score(comparison(dict(MEASURED)), summary)
     assert s.total == FAILED and why in s.failed
+
+
+def test_a_reference_without_a_scored_quantity_makes_the_score_partial():
+    s = score(comparison(dict(MEASURED)), SUMMARY)
+    assert s.missing == ("angle:ankle_dorsiflexion", "grf:grf_fore_aft",
+                         "moment:ankle_dorsiflexion", "moment:hip_flexion")  # fmt: skip
+    assert s.partial and score_json(s)["partial"] is True
+    assert score_json(s)["missing"] == list(s.missing)
+    # negative control: a reference with every scored quantity gives a full score
+    full = Reference("measured", P, dict.fromkeys(SCORED, P), {})
+    assert missing_scored(full) == ()
+    failed = score(Comparison("p", full, P, {}, ()), SUMMARY | {"converged": False})
+    assert not failed.partial and not score_json(failed)["partial"]
+
+
+def test_a_reference_with_no_scored_quantity_is_refused():
+    with pytest.raises(ValueError, match="only_pct holds none of the scored quantities"):
+        check_scored(Reference("only_pct", P, {"angle:pelvis_tilt": P}, {}))
+    check_scored(Reference("one", P, {"grf:grf_vertical": P}, {}))  # one is enough

@@ -29,6 +29,7 @@ from walk3d.calibration.fit import (
     fit_rollover_from_trial,
     fit_transition,
 )
+from walk3d.io.angle_units import check_storage_angles
 from walk3d.io.calibration import read_calibration, write_calibration
 from walk3d.io.checks import positive_numbers
 from walk3d.io.storage import read_storage
@@ -105,6 +106,7 @@ def calibrate_from_trial(
     if out is not None:  # every file it writes: an input, a user's file... refused now
         check_calibration_out(out, ik, grf, figures)
     ik_s = read_storage(ik)
+    check_storage_angles(ik_s)  # angles in another unit than the header's
     loads = foot_loads(grf)
     desc = descriptors_from_trial(ik_s, loads, threshold=threshold, speed=speed)
     kin = kinematics_from_storage(ik_s)

@@ -105,8 +105,17 @@ def best_seed(rows: list[dict]) -> int | None:
     return rows[0]["seed"] if rows and rows[0]["converged"] else None
 
 
+def _manifest(folder: Path) -> bytes | None:
+    """The bytes of a result folder's manifest (it holds the arrays' digest), None if absent."""
+    try:
+        return (folder / "manifest.json").read_bytes()
+    except OSError:
+        return None
+
+
 def update_best(out_dir: str | Path, rows: list[dict]) -> int | None:
-    """Make ``best/`` a copy of the best converged start's folder (removed if none).
+    """Make ``best/`` a copy of the best converged start's folder (removed if none); a
+    ``best/`` of another seed, or whose manifest is not the start's, is replaced.
 
     Returns the best seed, or None.
     """
@@ -117,9 +126,10 @@ def update_best(out_dir: str | Path, rows: list[dict]) -> int | None:
         if target.exists():
             shutil.rmtree(target)
         return None
+    source = store.starts_dir(out) / store.start_name(seed)
     current = store.read_record(target) if target.is_dir() else None
-    if current is None or current.get("seed") != seed:
-        store.replace_folder(store.starts_dir(out) / store.start_name(seed), target)
+    if current is None or current.get("seed") != seed or _manifest(target) != _manifest(source):
+        store.replace_folder(source, target)
     return seed
 
 
@@ -131,10 +141,14 @@ def _yes_no(value: Any) -> str:
     return "-" if value is None else ("yes" if value else "no")
 
 
-def top_table(rows: list[dict], criterion: str, n: int = 5, title: str | None = None) -> Table:
+def top_table(
+    rows: list[dict], criterion: str, n: int = 5, title: str | None = None, per_metre: bool = False
+) -> Table:
     """A Rich table of the ``n`` best starts: the chosen criterion, and the x/y/z split of its
-    base (C_tor or C_en)."""
+    base (C_tor or C_en). ``per_metre``: the criterion values are per metre walked (T or Td
+    predicted, :data:`COLUMNS`), and the column says so; the split is per cycle."""
     key, split = terms.label(criterion), f"C_{terms.base(criterion)}"
+    key = f"{key} per m" if per_metre else key
     t = Table(title=title or f"best {min(n, len(rows))} of {len(rows)} starts by {key}")
     xyz = ("x", "y", "z") if key == split else (f"{split} x", "y", "z")
     for col in ("rank", "seed", "conv.", key, *xyz, "iter", "walking"):

@@ -36,7 +36,7 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-from walk3d.campaign import ranking, store, task
+from walk3d.campaign import ranking, resume, store, task
 from walk3d.model import terms
 from walk3d.problem.settings import PredictionSettings, available_cores
 
@@ -242,14 +242,17 @@ def run_campaign(
 ) -> CampaignReport:
     """Run (or resume) the campaign of ``starts`` random starts in ``out_dir``.
 
-    Finished starts already in ``out_dir`` are skipped. Every start that finishes is written at
-    once, atomically; failed solves, exceptions and dead workers are recorded, never fatal.
+    Finished starts already in ``out_dir`` are skipped once verified
+    (:mod:`walk3d.campaign.resume`: a damaged one runs again, another problem's is refused).
+    Every start that finishes is written at once, atomically; failed solves, exceptions and
+    dead workers are recorded, never fatal.
     Finally ``ranking.csv`` and ``best/`` are written for every start in the folder.
 
     Raises:
         ValueError: invalid ``starts``, ``base_seed``, ``workers`` or ``solver``, or a
             ``scheduler`` that is malformed or does not answer (:func:`check_scheduler`).
-        walk3d.campaign.store.CampaignMismatch: ``out_dir`` holds a different campaign.
+        walk3d.campaign.store.CampaignMismatch: ``out_dir`` holds a different campaign, or a
+            start folder holds another problem's or another seed's prediction.
     """
     _validate(starts, base_seed, workers, solver)
     if scheduler:
@@ -260,6 +263,7 @@ def run_campaign(
     removed = store.clean_temporaries(out)
     records = store.finished_records(out, repair=True)
     seeds = [base_seed + k for k in range(starts)]
+    resume.verified_records(out, settings, records, seeds)  # before any solve
     retried = store.forget_environment_failures(out, records, seeds)
     pending = [s for s in seeds if s not in records]
     criterion = settings.model.criterion
@@ -280,7 +284,7 @@ def run_campaign(
                 raise
     # every task has ended: a temporary left now is a killed worker's, not a running one's
     removed += store.clean_temporaries(out)
-    rows = ranking.rank(out)
+    rows = ranking.order_records(list(records.values()))  # the verified records, not the files'
     ranking.write_ranking(out, rows)
     best = ranking.update_best(out, rows)
     return CampaignReport(

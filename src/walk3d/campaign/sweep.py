@@ -28,6 +28,7 @@ import io
 import json
 import math
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -202,7 +203,10 @@ def _second_pass(settings, speeds, out, summaries, first_from, seed, solver, on_
     path = out / "second_pass.json"
     try:  # a damaged record only means that the tries are made again
         done = read_json_object(path, "walk3d second-pass record") if path.is_file() else {}
-    except (OSError, ValueError):
+    except (OSError, ValueError) as exc:
+        why = getattr(exc, "reason", None) or " ".join(str(exc).split())
+        warnings.warn(f"{path} cannot be read ({why}): its second-pass tries are made again",
+                      RuntimeWarning, stacklevel=2)  # fmt: skip
         done = {}
     crit = settings.model.criterion
     for i, v in enumerate(map(float, speeds)):
@@ -217,6 +221,7 @@ def _second_pass(settings, speeds, out, summaries, first_from, seed, solver, on_
             depth = 0 if walks(summaries[i]) else CONTINUATION_DEPTH
             pred = _warm(settings, summaries[nb], v, seed, solver, lambda _m: None, depth)
             forget_solvers()
+            report.tries += 1
             ours = per_metre(summaries[i], crit)
             new = None if pred is None else per_metre(pred.summary, crit)
             better = new is not None and (ours is None or new < ours)
@@ -267,7 +272,10 @@ class SweepReport:
     """Table rows by increasing speed."""
     ran: int = 0
     skipped: int = 0
-    """Speeds solved now, and speeds read from an earlier run."""
+    """Speeds solved now (a second-pass result kept included), and speeds read from an earlier
+    run."""
+    tries: int = 0
+    """Second-pass solves made now, kept or not (:func:`_second_pass`)."""
     wall_time_s: float = 0.0
 
 

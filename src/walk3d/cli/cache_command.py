@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from walk3d.cli.common import app, console
+from walk3d.cli.common import app, console, fail
 
 
 @app.command(name="cache", short_help="Show the model cache, or clear it.")
@@ -28,9 +29,15 @@ def cache_info(
     from walk3d.cli import background
     from walk3d.solve import compiled, model_cache
 
-    use = model_cache.cache_usage()
+    problem = model_cache.not_a_folder()
+    if problem is not None and clear:
+        fail(f"{problem}: nothing to clear (set {model_cache.ENV_DIR} to a folder)")
     state = "" if model_cache.cache_enabled() else " (off: WALK3D_CACHE)"
     console.print(f"walk3d cache: {model_cache.cache_dir()}{state}", markup=False, highlight=False)
+    if problem is not None:  # as predict says it
+        sys.stderr.write(f"walk3d: warning: {problem}: walk3d runs without the cache\n")
+        return
+    use = model_cache.cache_usage()
     console.print(f"{use['models']} model entries, {use['libraries']} compiled libraries, "
                   f"{use['bridges']} BLAS bridges, {use['bytes'] / 1e6:.1f} MB")  # fmt: skip
     compiling = background.running(background.lock_path())

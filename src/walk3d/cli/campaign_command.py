@@ -40,6 +40,7 @@ from walk3d.cli.common import (
     scheduler_option,
     settings_from_options,
 )
+from walk3d.cli.warning_lines import warning_lines
 from walk3d.model.terms import DEFAULT_PRESET
 
 
@@ -128,13 +129,14 @@ def campaign(
         compile_with_progress(settings, console)
 
     try:
-        report = run_campaign(settings, starts, seed, out, workers=workers, scheduler=scheduler,
-                              solver=solver, console=console)  # fmt: skip
+        with warning_lines():  # a damaged start run again: one line
+            report = run_campaign(settings, starts, seed, out, workers=workers,
+                                  scheduler=scheduler, solver=solver, console=console)  # fmt: skip
     except CampaignMismatch as exc:
         fail(" ".join(str(exc).split()))
     except OSError as exc:
         fail(str(OutputWriteError(out, exc)), code=EXIT_WRITE)
-    console.print(top_table(report.rows, case["criterion"]))
+    console.print(top_table(report.rows, case["criterion"], per_metre=bool(settings.gait.free)))
     retried = f", {report.retried} retried after an environment failure" if report.retried else ""
     console.print(
         f"{len(report.rows)} starts in {out}: {report.converged} converged, "

@@ -106,8 +106,10 @@ def sweep(
                   f"{r['published_cadence']:.1f}", "yes" if r["converged"] else "NO",
                   "yes" if r["looks_like_walking"] else "NO", r["start"])  # fmt: skip
     console.print(t)
+    tries = f", {report.tries} second-pass tries" if report.tries else ""
     console.print(
-        f"{report.ran} speeds solved, {report.skipped} resumed ({report.wall_time_s:.0f} s); "
+        f"{report.ran} speeds solved, {report.skipped} resumed{tries} "
+        f"({report.wall_time_s:.0f} s); "
         f"table {out}/sweep.csv, figure {out}/sweep.png"
     )
     if not all(r["converged"] and r["looks_like_walking"] for r in report.rows):

@@ -88,7 +88,11 @@ def track(
                      double_support=double_support, weight=weight)  # fmt: skip
     if sex not in ("male", "female"):
         fail(f"--sex must be 'male' or 'female', got {sex!r}")
-    if (table is None) == (ik is None):
+    if table is not None and (ik is not None or grf is not None):
+        given = " and ".join(o for o, v in (("--ik", ik), ("--grf", grf)) if v is not None)
+        fail(f"give one measured gait: --table or --ik with --grf, not both (--table and {given} "
+             "were given)")  # fmt: skip
+    if table is None and ik is None:
         fail("give a measured gait: --ik IK.mot with --grf GRF.mot, or --table CYCLE.csv")
     if ik is not None and grf is None:
         fail("--ik needs --grf (the heel strikes come from the ground reaction)")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 from typing import Annotated
 
 import typer
@@ -50,11 +51,13 @@ def validate(
     --out that is a file, a folder holding files walk3d did not write or lies in another walk3d
     result folder), 3 if the folder cannot be written (nothing is changed)."""
     from walk3d.cli.labels import warn_if_invalid
+    from walk3d.cli.warning_lines import warning_lines
     from walk3d.io.errors import DataFileError, OutputWriteError
     from walk3d.results.labels import did_not_converge
     from walk3d.results.prediction import VALIDATION_FOLDER, load_result
     from walk3d.validation.run import check_validation_folder
     from walk3d.validation.run import validate as run
+    from walk3d.validation.score import SCORED, scored_name
     from walk3d.validation.tables import table2, table3
 
     positive_options(threshold=threshold, speed=speed)  # whatever the references
@@ -68,7 +71,7 @@ def validate(
     except ValueError as exc:
         fail(str(exc))
     try:
-        with console.status("walk3d: validating"):
+        with console.status("walk3d: validating"), warning_lines():  # never numpy's form
             v = run(
                 {"prediction": pred}, reference, target,
                 threshold=threshold, speed=speed, forward=forward,
@@ -87,12 +90,19 @@ def validate(
             f"measured {figs['knee_loading_peak_measured_deg']:.1f} deg",
             markup=False,
         )
+    if v.score is not None and v.score.partial:
+        names = ", ".join(scored_name(key) for key in v.score.missing)
+        sys.stderr.write(f"walk3d: warning: the reference lacks scored quantities ({names}): "
+                         "the score is partial, over the others only, and not comparable with "
+                         "a full one\n")  # fmt: skip
+    partial = f"PARTIAL, without {len(v.score.missing)} of {len(SCORED)} scored quantities; " if (
+        v.score is not None and v.score.partial) else ""  # fmt: skip
     if v.score is not None and v.score.failed is not None:
-        console.print(f"score {v.score.total:.3f} (failed: {v.score.failed}; score.json)",
-                      markup=False)  # fmt: skip
+        console.print(f"score {v.score.total:.3f} ({partial}failed: {v.score.failed}; "
+                      "score.json)", markup=False)  # fmt: skip
     elif v.score is not None:
-        console.print(f"score {v.score.total:.3f} (the yardstick's errors over their bars, "
-                      "1 = at the bar; score.json)", markup=False)  # fmt: skip
+        console.print(f"score {v.score.total:.3f} ({partial}the yardstick's errors over their "
+                      "bars, 1 = at the bar; score.json)", markup=False)  # fmt: skip
     if v.table3:
         console.print(table3(v.table3))
     if v.fit is not None:

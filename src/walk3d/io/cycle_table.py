@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from walk3d.io.angle_units import check_angles
 from walk3d.io.checks import increasing, read_input
 from walk3d.io.errors import DataFileError
 
@@ -113,8 +114,22 @@ def _to_float(path: Path, line: int, cell: str, what: str) -> float:
     return value
 
 
+def _no_repeats(path: Path, line: int, names: list[str], cells: list[str] | None = None) -> None:
+    """Refuse a header whose ``names`` (as read; ``cells``: as written) hold one twice: the
+    reader would keep one of them and silently ignore the other."""
+    seen: dict[str, int] = {}
+    for k, name in enumerate(names):
+        if name in seen:
+            shown = name if cells is None else cells[k]
+            again = "" if cells is None or cells[seen[name]] == shown else (
+                f" (as {cells[seen[name]]!r} and {shown!r})")  # fmt: skip
+            raise DataFileError(path, f"column {shown!r} appears twice{again}", line)
+        seen[name] = k
+
+
 def _read_wide(path: Path, rows: list[tuple[int, list[str]]]) -> CycleTable:
     head_line, header = rows[0]
+    _no_repeats(path, head_line, [c for c in header if c])
     names: list[str] = []
     for cell in header[1:]:
         if cell.endswith("_mean"):
@@ -166,6 +181,7 @@ def _read_winter(path: Path, rows: list[tuple[int, list[str]]], start: int) -> C
         cols.append(i)
         names.append(_snake(cell) + (f"_{unit}" if unit else ""))
         units.append(unit)
+    _no_repeats(path, head_line, names, [header[i].strip() for i in cols])
     percent, mean = [], []
     for line, cells in rows[start + 2 :]:
         if not any(cells):
@@ -184,7 +200,8 @@ def _read_winter(path: Path, rows: list[tuple[int, list[str]]], start: int) -> C
 
 def _cycle(path: Path, table: CycleTable) -> CycleTable:
     """``table`` if it is a gait cycle: :data:`MIN_ROWS` rows or more, percent increasing
-    within 0-100 and covering :data:`COVERAGE`, not every mean constant."""
+    within 0-100 and covering :data:`COVERAGE`, not every mean constant, and angles plausible
+    for their ``_deg`` or ``_rad`` unit (:mod:`walk3d.io.angle_units`)."""
     n = table.percent.size
     if n < MIN_ROWS:
         raise DataFileError(path, f"{n} data rows: a cycle table needs {MIN_ROWS} or more")
@@ -195,6 +212,12 @@ def _cycle(path: Path, table: CycleTable) -> CycleTable:
                             f"{percent[-1]:g}, not over 0-100 % of a cycle")  # fmt: skip
     if table.names and (np.ptp(table.mean, axis=0) == 0).all():
         raise DataFileError(path, "every column is constant over the cycle")
+    scale = {"deg": 1.0, "rad": np.degrees(1.0)}
+    angles = {name: scale[unit] * table.mean[:, k]
+              for k, (name, unit) in enumerate(zip(table.names, table.units, strict=True))
+              if unit in scale}  # fmt: skip
+    units = sorted({unit for unit in table.units if unit in scale})
+    check_angles(path, angles, " or ".join(f"_{u} columns" for u in units) or "degrees")
     return table
 
 
@@ -202,7 +225,8 @@ def read_cycle_table(path: str | PathLike[str]) -> CycleTable:
     """Read a cycle-table CSV (wide mean/SD or Winter layout, see the module doc).
 
     Raises:
-        DataFileError: No recognisable header, a row of the wrong length, a cell longer than
+        DataFileError: No recognisable header, a column named twice, a row of the wrong
+            length, a cell longer than
             the csv module's limit, a non-number, a non-finite value, one beyond
             :data:`MAX_ABS_VALUE` or a negative SD; or no gait cycle (:func:`_cycle`): too few
             rows, the percent not increasing over 0-100 %, every column constant.

@@ -230,8 +230,8 @@ def read_storage(path: str | PathLike[str], finite: bool = False) -> Storage:
     if any(not label for label in labels):
         raise DataFileError(path, "empty column label", label_line)
     if len(set(labels)) != len(labels):
-        dupes = sorted({label for label in labels if labels.count(label) > 1})
-        raise DataFileError(path, f"duplicate column labels {dupes}", label_line)
+        twice = next(label for k, label in enumerate(labels) if label in labels[:k])
+        raise DataFileError(path, f"column {twice!r} appears twice", label_line)
     if n_cols is not None and n_cols != len(labels):
         raise DataFileError(
             path, f"header declares {n_cols} columns, label line has {len(labels)}", label_line

@@ -53,16 +53,15 @@ from walk3d.io.checks import (
     plain_file_name,
     read_json_object,
     read_npz,
-    require_finite,
-    time_samples,
 )
 from walk3d.io.errors import DataFileError
 from walk3d.io.osim import write_osim
+from walk3d.results.folder_kind import not_a_prediction
 from walk3d.results.inverse_dynamics import write_inverse_dynamics
 from walk3d.results.lab_trial import write_markers_c3d
 from walk3d.results.opensim import write_grf, write_motion
 from walk3d.results.osim_model import motion_extent, osim_model, prediction_body
-from walk3d.results.readback import readable_arrays
+from walk3d.results.readback import NAME_FIELDS, read_field, readable_arrays
 
 __all__ = [
     "C3D_FILES",
@@ -108,8 +107,6 @@ VALIDATION_FILES = ("table2.csv", "table3.csv", "measured_fit.csv", "score.json"
                     "moments.png", "angles.png")  # fmt: skip
 """What :func:`walk3d.validation.run.validate` writes into its folder."""
 
-_NAME_FIELDS = ("segment_names", "dof_names", "joint_names")
-
 
 @dataclass(frozen=True, eq=False)
 class PredictedCycle:
@@ -152,7 +149,7 @@ class PredictedCycle:
     """JSON-ready description of the run (inputs, convergence, criteria, ...)."""
 
     def __post_init__(self) -> None:
-        for name in _NAME_FIELDS:
+        for name in NAME_FIELDS:
             object.__setattr__(self, name, tuple(str(s) for s in getattr(self, name)))
         n_seg, n_dof, n_joint = (len(self.segment_names), len(self.dof_names),
                                  len(self.joint_names))  # fmt: skip
@@ -231,7 +228,7 @@ def _npz_arrays(pred: PredictedCycle) -> dict[str, np.ndarray]:
         if f.name == "summary":
             continue
         value = getattr(pred, f.name)
-        if f.name in _NAME_FIELDS:
+        if f.name in NAME_FIELDS:
             arrays[f.name] = np.array(value, dtype=str)
         elif f.name == "joint_angle":
             arrays[f.name] = np.degrees(value)
@@ -294,6 +291,7 @@ def check_complete(out_dir: str | PathLike[str], remade: Collection[str] = ()) -
     if not out.is_dir():
         raise DataFileError(out, "not a result folder")
     if not path.is_file():
+        not_a_prediction(out)
         raise DataFileError(
             out, f"incomplete result folder: no {MANIFEST} (written last by walk3d predict)"
         )
@@ -375,24 +373,8 @@ def load_result(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> P
     values: dict[str, Any] = {"summary": read_json_object(out / "summary.json", "walk3d summary")}
     arrays = read_npz(npz_path, "walk3d result")
     for f in fields(PredictedCycle):
-        if f.name == "summary":
-            continue
-        arr = arrays.get(f.name)
-        if arr is None:
-            raise DataFileError(npz_path, f"not a walk3d result: no array {f.name!r}")
-        if f.name in _NAME_FIELDS:
-            if arr.ndim != 1 or arr.dtype.kind != "U":
-                raise DataFileError(npz_path, f"{f.name} is not a list of names")
-            values[f.name] = tuple(arr.tolist())
-        elif f.name == "joint_axis_active":
-            if arr.dtype.kind != "b":
-                raise DataFileError(npz_path, f"{f.name} is not an array of booleans")
-            values[f.name] = arr
-        elif f.name == "time":
-            values[f.name] = time_samples(npz_path, arr)
-        else:  # the centres of pressure are NaN while a foot is in the air
-            arr = require_finite(npz_path, f.name, arr, allow_nan=f.name == "grf_cop")
-            values[f.name] = np.radians(arr) if f.name == "joint_angle" else arr
+        if f.name != "summary":
+            values[f.name] = read_field(npz_path, f.name, arrays.get(f.name))
     try:
         return PredictedCycle(**values)
     except ValueError as exc:

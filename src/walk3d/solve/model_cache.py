@@ -51,7 +51,7 @@ from walk3d import constants
 from walk3d.io.atomic import atomic_write_text
 
 __all__ = ["SCHEMA", "LazyFunctions", "cache_dir", "cache_enabled", "cache_entries", "cache_usage",
-           "clear_entries", "model_key", "read_functions", "read_regular",
+           "clear_entries", "model_key", "not_a_folder", "read_functions", "read_regular",
            "write_functions"]  # fmt: skip
 
 SCHEMA = 2
@@ -161,15 +161,24 @@ _REFUSED: set[Path] = set()
 """Cache folders found not to be folders, already reported (:func:`_folder_usable`)."""
 
 
+def not_a_folder() -> str | None:
+    """``the model cache X is not a folder`` when something other than a folder is in the
+    cache folder's place, else None (it is a folder, or can become one)."""
+    folder = cache_dir()
+    if not folder.exists() or folder.is_dir():
+        return None
+    return f"the model cache {folder} is not a folder"
+
+
 def _folder_usable() -> bool:
     """Whether the cache folder is a folder or can become one. A file in its place is reported
     once per process (one line, not one per entry) and the cache is off for the process."""
-    folder = cache_dir()
-    if not folder.exists() or folder.is_dir():
+    problem = not_a_folder()
+    if problem is None:
         return True
-    if folder not in _REFUSED:
-        _REFUSED.add(folder)
-        log.warning("the model cache %s is not a folder: running without the cache", folder)
+    if cache_dir() not in _REFUSED:
+        _REFUSED.add(cache_dir())
+        log.warning("%s: running without the cache", problem)
     return False
 
 

@@ -16,12 +16,13 @@ from dataclasses import dataclass, replace
 from os import PathLike
 from pathlib import Path
 
+from walk3d.io.angle_units import check_storage_angles
 from walk3d.io.external_loads import FootLoads, find_plates
 from walk3d.io.storage import Storage, read_storage
 from walk3d.trials.c3d_trial import read_c3d_trial
 from walk3d.trials.descriptors import GaitDescriptors, descriptors_from_trial, foot_loads
 
-__all__ = ["Trial", "classify_storage", "load_c3d_trial", "load_trial"]
+__all__ = ["Trial", "check_overlap", "classify_storage", "load_c3d_trial", "load_trial"]
 
 
 @dataclass(frozen=True)
@@ -52,6 +53,24 @@ def classify_storage(storage: Storage) -> str | None:
     return None
 
 
+def check_overlap(storage: Storage | None, grf: Storage | None, kind: str) -> None:
+    """Raise ValueError (one line) when ``storage`` (the trial's ``kind`` file) and the GRF
+    ``grf`` both hold samples but their times do not overlap: not the same trial, and the
+    cycles cut by the plates would hold none of its samples."""
+    if storage is None or grf is None or storage.time.size == 0 or grf.time.size == 0:
+        return
+    a, b = (
+        (float(storage.time[0]), float(storage.time[-1])),
+        (float(grf.time[0]), float(grf.time[-1])),
+    )
+    if a[1] < b[0] or b[1] < a[0]:
+        name = storage.path.name if storage.path else kind
+        grf_name = grf.path.name if grf.path else "GRF"
+        raise ValueError(f"the {kind} file {name} ({a[0]:g}-{a[1]:g} s) and the GRF file "
+                         f"{grf_name} ({b[0]:g}-{b[1]:g} s) do not overlap in time: not the "
+                         "same trial")  # fmt: skip
+
+
 def load_trial(
     ik: str | PathLike[str] | Storage | None = None,
     grf: str | PathLike[str] | Storage | None = None,
@@ -64,14 +83,20 @@ def load_trial(
     """Read a trial's files (any may be None) and its descriptors when the GRF is given.
 
     Raises:
-        DataFileError: A file is malformed. ValueError: the plates cannot be assigned or the
-        events do not give a period / double support.
+        DataFileError: A file is malformed, or the IK's angles are implausible for its
+            ``inDegrees`` (:mod:`walk3d.io.angle_units`).
+        ValueError: the plates cannot be assigned or the events do not give a period / double
+            support.
     """
 
     def read(x):
         return None if x is None else (x if isinstance(x, Storage) else read_storage(x))
 
     ik_s, grf_s, id_s = read(ik), read(grf), read(inverse_dynamics)
+    if ik_s is not None:
+        check_storage_angles(ik_s)  # angles in another unit than the header's
+    for other, kind in ((ik_s, "IK"), (id_s, "ID")):
+        check_overlap(other, grf_s, kind)
     loads = None if grf_s is None else foot_loads(grf_s)
     desc = None
     if loads is not None:

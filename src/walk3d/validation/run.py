@@ -45,7 +45,7 @@ from walk3d.validation.criteria import criteria_from_reference, table3_rows
 from walk3d.validation.figures import comparison_figures
 from walk3d.validation.measured import GaitFit, fit_measured_gait
 from walk3d.validation.reference import Reference, reference_from_table, trial_reference
-from walk3d.validation.score import Score, score, score_json
+from walk3d.validation.score import Score, check_scored, score, score_json
 
 __all__ = ["VALIDATION_MARK", "Validation", "check_forward", "check_validation_folder",
            "load_references", "sort_references", "table2_rows", "validate"]  # fmt: skip
@@ -248,6 +248,7 @@ def validate(
     mass, height, sex, notes = _subject(first)
     loaded = load_references(references, mass, threshold=threshold, speed=speed, forward=forward)
     reference, trials, tables, table_paths = loaded
+    check_scored(reference)  # before any write: nothing to compare with
     notes += list(reference.notes)
     comparisons = tuple(compare(p, reference, name) for name, p in predictions.items())
     cols2, rows2 = table2_rows(comparisons)

@@ -14,6 +14,11 @@ limits), so no unit dominates by its size:
 The score is the mean of the parts present, each capped at :data:`CAP` so that one wild row
 cannot hide the rest; a solve that did not converge, or a gait that does not walk, scores
 :data:`FAILED`. Lower is better; below 1 every row is within its bar on average.
+
+A reference that lacks some :data:`SCORED` quantities gives a *partial* score
+(:attr:`Score.missing` names them): the mean of fewer parts, which may read better than a full
+one and is not comparable with it. A reference that holds none of them scores nothing
+(:func:`check_scored`): the guards alone would read 0, better than any real comparison.
 """
 
 from __future__ import annotations
@@ -24,9 +29,11 @@ import numpy as np
 
 from walk3d.results.labels import is_converged
 from walk3d.validation.compare import Comparison
+from walk3d.validation.reference import Reference
 
-__all__ = ["CAP", "FAILED", "GUARDS", "KNEE_PEAK_SCALE", "MOMENT_R_BARS", "RMSE_BARS", "Score",
-           "knee_loading_peak", "score", "score_json"]  # fmt: skip
+__all__ = ["CAP", "FAILED", "GUARDS", "KNEE_PEAK_SCALE", "MOMENT_R_BARS", "RMSE_BARS", "SCORED",
+           "Score", "check_scored", "knee_loading_peak", "missing_scored", "score",
+           "score_json", "scored_name"]  # fmt: skip
 
 RMSE_BARS: dict[str, float] = {
     "angle:knee_flexion": 7.0,
@@ -42,6 +49,8 @@ MOMENT_R_BARS: dict[str, float] = {
     "moment:hip_flexion": 0.6,
 }
 """Lowest acceptable r of the sagittal moments (issue #41's bar)."""
+SCORED = (*RMSE_BARS, *MOMENT_R_BARS)
+"""The measured quantities the score compares (the knee's peak comes with the knee angle)."""
 KNEE_PEAK_SCALE = 8.0
 """deg: a loading knee 8° from the measured peak costs as much as an angle at its bar (the
 measured adults' loading peaks span about 22–28°)."""
@@ -73,6 +82,34 @@ class Score:
     """The raw figures (deg, N/kg, r, m) the parts come from."""
     failed: str | None = None
     """Why the prediction scored :data:`FAILED` (None when it was scored)."""
+    missing: tuple[str, ...] = ()
+    """The :data:`SCORED` quantities the reference lacks: the score is partial when any."""
+
+    @property
+    def partial(self) -> bool:
+        """Whether the reference lacked a scored quantity (module doc)."""
+        return bool(self.missing)
+
+
+def scored_name(key: str) -> str:
+    """``knee_flexion angle`` for the key ``angle:knee_flexion``."""
+    group, _, name = key.partition(":")
+    return f"{name} {group}" if group != "grf" else name
+
+
+def missing_scored(reference: Reference) -> tuple[str, ...]:
+    """The :data:`SCORED` quantities (keys such as ``angle:knee_flexion``) ``reference``
+    lacks."""
+    return tuple(key for key in SCORED if not reference.has(key))
+
+
+def check_scored(reference: Reference) -> None:
+    """Raise ValueError (one line) when ``reference`` holds none of the :data:`SCORED`
+    quantities: there is nothing to score it by."""
+    if len(missing_scored(reference)) == len(SCORED):
+        names = ", ".join(scored_name(key) for key in SCORED)
+        raise ValueError(f"the reference {reference.name} holds none of the scored quantities "
+                         f"({names}): nothing to compare the prediction with")  # fmt: skip
 
 
 def knee_loading_peak(series: np.ndarray) -> float:
@@ -92,11 +129,12 @@ def score(comparison: Comparison, summary: dict, measured_td: float | None = Non
     """The score of one prediction (its ``comparison`` with a reference and its ``summary``).
     ``measured_td`` (s): the measured double support, scored when the summary says Td was
     predicted."""
+    missing = missing_scored(comparison.reference)
     if not is_converged(summary):  # only a recorded true: "no" is not converged
-        return Score(FAILED, failed=f"did not converge ({summary.get('status')})")
+        return Score(FAILED, failed=f"did not converge ({summary.get('status')})", missing=missing)
     checks = summary.get("gait_checks") or {}
     if not checks.get("looks_like_walking"):
-        return Score(FAILED, failed="does not look like walking")
+        return Score(FAILED, failed="does not look like walking", missing=missing)
     parts: dict[str, float] = {}
     figures: dict[str, float] = {}
     rows = {r.quantity.key: r for r in comparison.rows}
@@ -128,16 +166,18 @@ def score(comparison: Comparison, summary: dict, measured_td: float | None = Non
         figures["double_support_s"] = float(td)
         parts["double_support"] = _capped(abs(td - measured_td) / (TD_SCALE * measured_td))
     total = float(np.mean(list(parts.values()))) if parts else FAILED
-    return Score(total, parts, figures)
+    return Score(total, parts, figures, missing=missing)
 
 
 def score_json(result: Score) -> dict:
-    """``result`` as strict JSON (``score.json`` of a validation folder; NaN as null)."""
+    """``result`` as strict JSON (``score.json`` of a validation folder; NaN as null);
+    ``partial`` and ``missing`` say which scored quantities the reference lacked."""
 
     def clean(values: dict) -> dict:
         return {k: float(v) if np.isfinite(v) else None for k, v in values.items()}
 
-    return {"score": result.total, "parts": clean(result.parts),
-            "figures": clean(result.figures), "failed": result.failed,
+    return {"score": result.total, "partial": result.partial, "missing": list(result.missing),
+            "parts": clean(result.parts), "figures": clean(result.figures),
+            "failed": result.failed,
             "bars": {"rmse": RMSE_BARS, "moment_r": MOMENT_R_BARS,
                      "knee_loading_peak_deg": KNEE_PEAK_SCALE, "cap": CAP}}  # fmt: skip
