@@ -262,9 +262,24 @@ def test_a_result_that_did_not_converge_is_named_with_the_scores_reason(pred_dir
         "not a valid prediction"]  # fmt: skip
     assert "(NOT CONVERGED)" in r.stdout
     assert "score 10.000 (failed: did not converge (Maximum_Iterations_Exceeded)" in r.stdout
+    statuses = _table2_statuses(tmp_path / "v")
+    assert "ok (not converged)" in statuses and "ok" not in statuses  # every scored row says it
     # negative control: the same folder converged and walking is neither warned nor failed
     good = _labelled(pred_dir, tmp_path / "g", converged=True,
                      gait_checks={"looks_like_walking": True})  # fmt: skip
     r = _run("validate", good, "--reference", table, "--out", tmp_path / "w")
     assert r.returncode == 0 and "warning" not in r.stderr, r.stderr
     assert "failed" not in r.stdout and "NOT CONVERGED" not in r.stdout
+    assert "ok" in _table2_statuses(tmp_path / "w")
+    walking = _labelled(pred_dir, tmp_path / "n", converged=True,
+                        gait_checks={"looks_like_walking": False})  # fmt: skip
+    r = _run("validate", walking, "--reference", table, "--out", tmp_path / "x")
+    assert r.returncode == 0 and "ok (not walking)" in _table2_statuses(tmp_path / "x")
+
+
+def _table2_statuses(folder) -> set[str]:
+    import csv
+
+    path = next(folder.glob("table2*.csv"))
+    with path.open(newline="") as fh:
+        return {row["status"] for row in csv.DictReader(line for line in fh if line[0] != "#")}

@@ -36,6 +36,7 @@ from walk3d.io.storage import read_storage
 from walk3d.io.tables import write_csv_table
 from walk3d.outputs import check_output_folder, write_errors
 from walk3d.problem.settings import recorded_settings
+from walk3d.results.labels import did_not_converge, invalid_reason
 from walk3d.results.prediction import VALIDATION_FILES, VALIDATION_FOLDER, PredictedCycle
 from walk3d.trials.c3d_trial import parse_axis
 from walk3d.trials.kinematics import kinematics_from_storage, kinematics_from_table
@@ -134,8 +135,16 @@ def sort_references(paths: Sequence[str | PathLike[str]]) -> tuple[list[Path], l
     return tables, [*groups.values(), *c3d]
 
 
-def table2_rows(comparisons: Sequence[Comparison]) -> tuple[tuple[str, ...], list[dict]]:
-    """Columns and rows of Table 2 for one or several predictions (same reference)."""
+def table2_rows(
+    comparisons: Sequence[Comparison], labels: Sequence[str | None] = ()
+) -> tuple[tuple[str, ...], list[dict]]:
+    """Columns and rows of Table 2 for one or several predictions (same reference). ``labels``:
+    per prediction, why it is not a valid walking prediction (``not converged``, ``not
+    walking``) or None; an ``ok`` status names the flagged ones, so no row reads as a valid
+    comparison of a failed solve."""
+    flagged = [f"{c.prediction_name} {lab}" if len(comparisons) > 1 else lab
+               for c, lab in zip(comparisons, labels, strict=False) if lab]  # fmt: skip
+    ok = f"ok ({'; '.join(flagged)})" if flagged else "ok"
     single = len(comparisons) == 1
     cols = [
         "group",
@@ -155,7 +164,8 @@ def table2_rows(comparisons: Sequence[Comparison]) -> tuple[tuple[str, ...], lis
         q = row.quantity
         out = {
             "group": q.group, "quantity": q.name, "label": q.label, "unit": q.unit,
-            "status": row.status, "n_cycles": row.n_cycles, "reference_sd": row.reference_sd,
+            "status": ok if row.status == "ok" else row.status,
+            "n_cycles": row.n_cycles, "reference_sd": row.reference_sd,
             "reference_range": row.reference_range,
         }  # fmt: skip
         for c in comparisons:
@@ -165,6 +175,13 @@ def table2_rows(comparisons: Sequence[Comparison]) -> tuple[tuple[str, ...], lis
             out[f"rmse_of_range{suffix}"], out[f"r2{suffix}"] = r.rmse_of_range, r.r2
         rows.append(out)
     return tuple(cols), rows
+
+
+def _label(summary: Any) -> str | None:
+    """``not converged``, ``not walking`` or None (:mod:`walk3d.results.labels`)."""
+    if not isinstance(summary, dict) or invalid_reason(summary) is None:
+        return None
+    return "not converged" if did_not_converge(summary) else "not walking"
 
 
 def _subject(pred: PredictedCycle) -> tuple[float, float, str, list[str]]:
@@ -251,7 +268,7 @@ def validate(
     check_scored(reference)  # before any write: nothing to compare with
     notes += list(reference.notes)
     comparisons = tuple(compare(p, reference, name) for name, p in predictions.items())
-    cols2, rows2 = table2_rows(comparisons)
+    cols2, rows2 = table2_rows(comparisons, [_label(p.summary) for p in predictions.values()])
     summary = first.summary if isinstance(first.summary, dict) else {}
     timed = next((t for t in trials if t.descriptors is not None), None)
     result = score(comparisons[0], summary, timed.descriptors.double_support if timed else None)
