@@ -177,6 +177,8 @@ def settings(
     or TOML file), ``mass``, ``height``, ``sex``, ``start``, ``nodes``, ``threads`` (default:
     every core) and any other :class:`~walk3d.problem.settings.PredictionSettings` field.
     Raises ValueError with one line, also for an ``hsl_library`` IPOPT must not load."""
+    from walk3d.io.criterion import with_file_options
+    from walk3d.io.errors import DataFileError
     from walk3d.model.settings import equal_steps_unused
     from walk3d.model.terms import DEFAULT_PRESET
     from walk3d.problem.settings import PredictionSettings, available_cores, first_error
@@ -187,7 +189,12 @@ def settings(
         if not (value is None and name in ("period", "double_support")) and not _real(value):
             raise ValueError(f"{name} must be a finite number, got {value!r:.40}")
     options = {"height": 1.77, "threads": min(available_cores(), 64), **options}
-    options["criterion"] = criterion_value(str(options.get("criterion", DEFAULT_PRESET)))
+    given = str(options.get("criterion", DEFAULT_PRESET))
+    options["criterion"] = criterion_value(given)
+    try:  # a fitted criterion file's [model] options (walk3d.io.criterion)
+        options = with_file_options(given, options)
+    except DataFileError as exc:
+        raise ValueError(f"criterion {exc}") from None
     fields_ = gait_fields(speed, period, double_support, options["height"])
     try:
         made = PredictionSettings(**fields_, **options)

@@ -48,8 +48,8 @@ from walk3d.cli.common import (
     gait_fields,
     paper_case,
     settings_from_options,
-    start_text,
 )
+from walk3d.cli.labels import start_text
 from walk3d.cli.warning_lines import warned
 from walk3d.model.terms import DEFAULT_PRESET
 

@@ -347,9 +347,14 @@ def gait_fields(
 
 def settings_from_options(criterion: str, solver: str, seed: int, **fields):
     """Validated PredictionSettings from command-line values, or one error line and exit 2."""
+    from walk3d.io.criterion import with_file_options  # a fitted file's [model] options
     from walk3d.model.settings import equal_steps_unused
     from walk3d.problem.settings import PredictionSettings, first_error
 
+    try:
+        fields = with_file_options(criterion, fields)
+    except ValueError as exc:  # DataFileError too
+        fail(" ".join(str(exc).split()))
     criterion = criterion_option(criterion)
     if solver not in ("ipopt", "sqp"):
         fail(f"--solver must be 'ipopt' or 'sqp', got {solver!r}")
@@ -371,18 +376,6 @@ def settings_from_options(criterion: str, solver: str, seed: int, **fields):
         if problem:
             fail(problem)
     return settings
-
-
-def start_text(summary: dict) -> str:
-    """Where a prediction started, for the printed tables."""
-    start = summary.get("start", "standing")
-    first = (summary.get("stages") or [{}])[0]
-    if start == "atlas":
-        speeds = ", ".join(f"{v:.2f}" for v in first.get("atlas_speeds", []))
-        return f"atlas (walk3d's solutions at {speeds} m/s, reference subject)"
-    if first.get("start") == "atlas":
-        return "standing (after the atlas start did not converge)"
-    return start
 
 
 def scheduler_option(scheduler: str | None) -> None:

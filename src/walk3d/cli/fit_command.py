@@ -34,7 +34,11 @@ def fit_criterion(
     out: Annotated[str, typer.Option("--out", help="Fit folder (created or resumed).")],
     parameter: Annotated[
         list[str],
-        typer.Option("--parameter", help="A term whose weight is fitted: name or name=low:high."),
+        typer.Option(
+            "--parameter",
+            help="A term whose weight is fitted, or a model option (heel_rise, load_ramp): name or "
+            "name=low:high.",
+        ),
     ],
     base: Annotated[
         str, typer.Option("--base", help="The criterion the weights start from.")

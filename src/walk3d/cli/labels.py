@@ -1,6 +1,7 @@
-"""The warning line of a command that reads a result which is not a valid walking prediction
-(:func:`walk3d.results.labels.invalid_reason`): ``compare``, ``validate`` and ``animate`` keep
-their exit codes, as ``walk3d report`` does, and say so on standard error."""
+"""How the commands label a result: the warning line of a command that reads a result which is
+not a valid walking prediction (:func:`walk3d.results.labels.invalid_reason`; ``compare``,
+``validate`` and ``animate`` keep their exit codes, as ``walk3d report`` does, and say so on
+standard error), and where a prediction started."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from typing import Any
 
 from walk3d.results.labels import invalid_reason
 
-__all__ = ["warn_if_invalid"]
+__all__ = ["start_text", "warn_if_invalid"]
 
 
 def warn_if_invalid(folder: str | os.PathLike[str], summary: dict[str, Any]) -> str | None:
@@ -20,3 +21,15 @@ def warn_if_invalid(folder: str | os.PathLike[str], summary: dict[str, Any]) -> 
     if reason is not None:
         sys.stderr.write(f"walk3d: warning: {os.fspath(folder)}: {reason}\n")
     return reason
+
+
+def start_text(summary: dict) -> str:
+    """Where a prediction started, for the printed tables."""
+    start = summary.get("start", "standing")
+    first = (summary.get("stages") or [{}])[0]
+    if start == "atlas":
+        speeds = ", ".join(f"{v:.2f}" for v in first.get("atlas_speeds", []))
+        return f"atlas (walk3d's solutions at {speeds} m/s, reference subject)"
+    if first.get("start") == "atlas":
+        return "standing (after the atlas start did not converge)"
+    return start

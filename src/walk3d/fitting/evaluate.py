@@ -19,15 +19,31 @@ from walk3d.io.checks import read_json_object
 from walk3d.problem.settings import PredictionSettings
 from walk3d.validation.score import FAILED
 
-__all__ = ["MODES", "evaluate", "evaluation_key", "trial_descriptors", "trial_settings"]
+__all__ = [
+    "MODES",
+    "evaluate",
+    "evaluation_key",
+    "split_candidate",
+    "trial_descriptors",
+    "trial_settings",
+]
 
 MODES = ("given", "predicted")
 """How a trial's T and Td reach the prediction: the measured ones given, or predicted."""
 Mode = Literal["given", "predicted"]
 
 
+def split_candidate(candidate: str) -> tuple[str, dict[str, float]]:
+    """The criterion and the model options of a candidate, ``criterion`` or
+    ``criterion|name=value,...`` (:func:`walk3d.fitting.search.candidate_of`)."""
+    criterion, _, tail = candidate.partition("|")
+    options = dict(item.split("=", 1) for item in tail.split(",")) if tail else {}
+    return criterion, {k: float(v) for k, v in options.items()}
+
+
 def evaluation_key(criterion: str, trial: str, mode: str) -> str:
-    """File stem of one evaluation: a digest of the canonical criterion, the trial, the mode."""
+    """File stem of one evaluation: a digest of the candidate (the canonical criterion, and its
+    model options if any), the trial, the mode."""
     digest = hashlib.sha256(criterion.encode()).hexdigest()[:12]
     return f"{digest}-{trial}-{mode}"
 
@@ -48,17 +64,19 @@ def trial_settings(
     mode: Mode,
     descriptors: tuple[float, float, float] | None = None,
 ) -> PredictionSettings:
-    """The prediction of ``trial`` under ``criterion`` (canonical), with the measured T and Td
-    (``given``) or both predicted; one thread, as the workers run side by side.
-    ``descriptors``: the trial's :func:`trial_descriptors`, when already read."""
+    """The prediction of ``trial`` under ``criterion`` (a candidate: the canonical criterion
+    and its model options, :func:`split_candidate`), with the measured T and Td (``given``) or
+    both predicted; one thread, as the workers run side by side. ``descriptors``: the trial's
+    :func:`trial_descriptors`, when already read."""
     from walk3d.problem.descriptors import auto_descriptors
 
     speed, period, td = descriptors or trial_descriptors(trial)
     given = (period, td) if mode == "given" else (None, None)
     t, d, free = auto_descriptors(speed, trial.height, *given)
+    weights, options = split_candidate(criterion)
     return PredictionSettings(speed=speed, period=t, double_support=d, free=free,
                               mass=trial.mass, height=trial.height, sex=trial.sex,
-                              criterion=criterion, threads=1)  # fmt: skip
+                              criterion=weights, threads=1, **options)  # fmt: skip
 
 
 def evaluate(

@@ -9,14 +9,14 @@ from pathlib import Path
 
 import numpy as np
 
-from walk3d.fitting.evaluate import MODES
+from walk3d.fitting.evaluate import MODES, split_candidate
 from walk3d.fitting.search import (
     SIGMA0,
     Evaluations,
     FitMismatch,
     Parameter,
-    criterion_of,
-    weights_of,
+    candidate_of,
+    values_of,
 )
 from walk3d.fitting.trials import FitTrial
 from walk3d.io.atomic import atomic_write_text
@@ -48,9 +48,14 @@ class FitResult:
 
 def _identity(trials, params, base, modes, seed, popsize, held_out) -> dict:
     return {"trials": [t.model_dump(mode="json") for t in trials],
-            "parameters": [p.__dict__ for p in params], "base": terms.canonical(base),
+            "parameters": [_stored(p) for p in params], "base": terms.canonical(base),
             "modes": list(modes), "seed": seed, "popsize": popsize,
             "held_out": sorted(held_out)}  # fmt: skip
+
+
+def _stored(p: Parameter) -> dict:
+    """A parameter as ``fit.json`` holds it (a weight without its kind, as before options)."""
+    return {k: v for k, v in p.__dict__.items() if not (k == "kind" and v == "weight")}
 
 
 def _open(out: Path, identity: dict) -> None:
@@ -118,7 +123,7 @@ def fit_criterion(
     _open(out, _identity(trials, params, base, modes, seed, popsize, held_out))
 
     u0 = [p.to_unit(p.start) for p in params]
-    start = criterion_of(base, params, u0)
+    start = candidate_of(base, params, u0)
     total = (2 * len(trials) + generations * popsize * len(fit_on)) * len(modes)
     done = [0]
 
@@ -128,8 +133,11 @@ def fit_criterion(
             on_progress(done[0], total, f"{record['trial']}/{record['mode']} "
                                         f"score {record['score']:.3f}")  # fmt: skip
 
+    # one parameter: no bounds (cma's bound transform fails in one dimension at the second
+    # tell); the unit values are clipped to [0, 1] where they become weights or options
+    bounds = {"bounds": [0, 1]} if len(params) > 1 else {}
     es = cma.CMAEvolutionStrategy(u0, SIGMA0, {"seed": seed + 1, "popsize": popsize,
-                                               "bounds": [0, 1], "verbose": -9})  # fmt: skip
+                                               "verbose": -9, **bounds})  # fmt: skip
     rows: list[dict] = []
     with dask_client(workers, scheduler, popsize * len(fit_on) * len(modes)) as client:
         ev = Evaluations(client, out / "evaluations", seed, advance)
@@ -141,7 +149,7 @@ def fit_criterion(
             asked = [list(map(float, x)) for x in es.ask()]
             stored = read_json_object(gen_file) if gen_file.exists() else None
             x = stored["x"] if stored and len(stored.get("x", [])) == popsize else asked
-            crits = [criterion_of(base, params, u) for u in x]
+            crits = [candidate_of(base, params, u) for u in x]
             atomic_write_text(gen_file, json.dumps({"x": x, "criteria": crits}, indent=1) + "\n")
             records |= ev.run([(c, t, m) for c in crits for t in fit_on for m in modes])
             f = [_mean(records, c, fit_on, modes) for c in crits]
@@ -156,7 +164,7 @@ def fit_criterion(
                         "candidate": i,
                         "score": s,
                         "criterion": c,
-                        **weights_of(params, u),
+                        **values_of(params, u),
                     }
                 )
         best = min(scores, key=scores.get)
@@ -172,14 +180,15 @@ def fit_criterion(
 
 
 def _write_outputs(out: Path, result: FitResult, params, rows, fit_on) -> dict[str, Path]:
-    weights = terms.parse(result.best)
+    criterion, options = split_candidate(result.best)
+    weights = terms.parse(criterion)
     notes = [f"walk3d fit-criterion: fitted {', '.join(p.name for p in params)} on "
              f"{', '.join(t.name for t in fit_on)}",
              f"mean score {result.best_score:.4f} (start {result.start_score:.4f}; lower is "
              "better, 1 = at the bar)"]  # fmt: skip
     if result.held_out:
         notes.append(f"held out: {', '.join(result.held_out)}")
-    files = {"criterion": write_criterion(out / "criterion.toml", weights, notes)}
+    files = {"criterion": write_criterion(out / "criterion.toml", weights, notes, options)}
     if rows:
         files["table"] = write_csv_table(out / "fit.csv", tuple(rows[0]), rows)
     summary = {"start": result.start, "best": result.best, "start_score": result.start_score,
