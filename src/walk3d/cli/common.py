@@ -351,11 +351,11 @@ def settings_from_options(criterion: str, solver: str, seed: int, **fields):
     from walk3d.model.settings import equal_steps_unused
     from walk3d.problem.settings import PredictionSettings, first_error
 
+    given, criterion = criterion, criterion_option(criterion)  # the file's checks first
     try:
-        fields = with_file_options(criterion, fields)
+        fields = with_file_options(given, fields)
     except ValueError as exc:  # DataFileError too
         fail(" ".join(str(exc).split()))
-    criterion = criterion_option(criterion)
     if solver not in ("ipopt", "sqp"):
         fail(f"--solver must be 'ipopt' or 'sqp', got {solver!r}")
     if seed < 0:
