@@ -26,8 +26,10 @@ def animate(
     pressure (1 m per body weight) while loaded, CYCLES gait cycles, each a stride further on.
     Written aside and then moved into place (a deleted DIR/animation.mp4 is made again), and
     listed in DIR's manifest. A result that did not converge or does not walk is labelled in
-    every frame and named in a warning line. Exit code 2 for a folder that is not a complete
-    result (or whose summary's period is not its time axis's span) or a bad --out, 3 if the
+    every frame and named in a warning line. An existing --out is replaced only if walk3d wrote
+    it (the comment in its metadata, or a view its folder's manifest lists). Exit code 2 for a
+    folder that is not a complete result (or whose summary's period is not its time axis's
+    span) or a bad --out (such a user's file too), 3 if the
     video cannot be written (nothing is changed)."""
     from rich.progress import (
         BarColumn,
@@ -41,14 +43,15 @@ def animate(
     from walk3d.io.errors import DataFileError
     from walk3d.outputs import write_errors
     from walk3d.plots.animation import cycle_period
-    from walk3d.plots.video import write_animation
+    from walk3d.plots.video import is_walk3d_video, write_animation
     from walk3d.results.osim_model import prediction_body
     from walk3d.results.prediction import load_result
-    from walk3d.results.views import write_view
+    from walk3d.results.views import is_listed_view, write_view
 
     folder = Path(pred_dir)
     target = Path(out) if out is not None else folder / "animation.mp4"
-    check_output_file(str(target), suffix=".mp4", home=folder)  # not in another result
+    kind = ("walk3d video", lambda p: is_walk3d_video(p) or is_listed_view(p))  # not a user's
+    check_output_file(str(target), suffix=".mp4", home=folder, existing=kind)
     inside = target.parent.resolve() == folder.resolve() and target.name == "animation.mp4"
     try:
         pred = load_result(folder, remade=(target.name,) if inside else ())

@@ -32,19 +32,23 @@ def report(
     animation if DIR has one; for a campaign, its starts, the five best and the best
     prediction. Written atomically; a page written into a prediction folder is listed in its
     manifest, and made again when deleted. Exit code 2 for a folder of neither kind, a bad
-    option (an --out inside another walk3d result folder too) or a --data folder whose
+    option (an --out inside another walk3d result folder, or an existing file that is not a
+    page walk3d wrote, too) or a --data folder whose
     tables are malformed or hold NaN or infinite values; 3 if it cannot be written."""
+    from walk3d.report.html import is_walk3d_page
     from walk3d.report.norms import SOURCES, find_data, load_norms
     from walk3d.report.writer import build_report, save_report
+    from walk3d.results.views import is_listed_view
 
     target = Path(out) if out is not None else None
     if target is not None and target.suffix.lower() not in (".html", ".htm"):
         fail(f"--out must name an .html file, got {target}")
     if not Path(folder).is_dir():
         fail(f"{folder} is not a folder")
-    if target is not None:  # a folder, device, FIFO, another result's file: refused
-        check_output_file(str(target), home=folder)
-    else:
+    kind = ("walk3d report", lambda p: is_walk3d_page(p) or is_listed_view(p))  # not a user's
+    if target is not None:  # a folder, device, FIFO, another result's or a user's file: refused
+        check_output_file(str(target), home=folder, existing=kind)
+    else:  # DIR's own page, of any walk3d version
         check_output_file(str(Path(folder) / "report.html"), "the page", home=folder)
     found = find_data(data)
     if data is not None and found is None:

@@ -31,8 +31,11 @@ if TYPE_CHECKING:
     from walk3d.body.model import BodyModel
     from walk3d.results.prediction import PredictedCycle
 
-__all__ = ["FRAME_SIZE", "encode_mp4", "write_animation"]
+__all__ = ["FRAME_SIZE", "VIDEO_MARKER", "encode_mp4", "is_walk3d_video", "write_animation"]
 
+VIDEO_MARKER = "walk3d animation"
+"""The comment in every video's metadata (its ``moov`` box), by which walk3d knows a video it
+wrote from a user's file (:func:`is_walk3d_video`)."""
 FRAME_SIZE = (1280, 480)
 """Width and height of the video's frames, pixels (multiples of 16, as H.264 prefers)."""
 
@@ -250,8 +253,8 @@ def encode_mp4(path: Path, frames: Iterable[bytes], fps: float) -> None:
     width, height = FRAME_SIZE
     cmd = [imageio_ffmpeg.get_ffmpeg_exe(), "-y", "-v", "error", "-f", "rawvideo",
            "-pix_fmt", "rgb24", "-s", f"{width}x{height}", "-r", f"{fps:g}", "-i", "-", "-an",
-           "-vcodec", "libx264", "-pix_fmt", "yuv420p", "-crf", "20", "-f", "mp4",
-           str(path)]  # fmt: skip
+           "-vcodec", "libx264", "-pix_fmt", "yuv420p", "-crf", "20",
+           "-metadata", f"comment={VIDEO_MARKER}", "-f", "mp4", str(path)]  # fmt: skip
     proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, start_new_session=True)  # fmt: skip
     said: list[bytes] = []
@@ -277,6 +280,32 @@ def encode_mp4(path: Path, frames: Iterable[bytes], fps: float) -> None:
         reader.join(timeout=10)
     if code != 0:
         raise _ffmpeg_error(code, said)
+
+
+def is_walk3d_video(path: str | PathLike[str]) -> bool:
+    """Whether the file ``path`` is an MP4 walk3d wrote: :data:`VIDEO_MARKER` in its ``moov``
+    box (the top-level boxes are walked, the frames' ``mdat`` skipped)."""
+    try:
+        with open(path, "rb") as f:
+            size = os.fstat(f.fileno()).st_size
+            at = 0
+            while at + 8 <= size:
+                f.seek(at)
+                head = f.read(16)
+                n, kind = int.from_bytes(head[:4], "big"), head[4:8]
+                if n == 1 and len(head) == 16:  # a 64-bit size follows
+                    n = int.from_bytes(head[8:16], "big")
+                elif n == 0:  # to the end of the file
+                    n = size - at
+                if n < 8:
+                    return False
+                if kind == b"moov":
+                    f.seek(at)
+                    return VIDEO_MARKER.encode() in f.read(min(n, 1 << 26))
+                at += n
+    except OSError:
+        return False
+    return False
 
 
 def _ffmpeg_error(code: int, said: list[bytes]) -> OSError:

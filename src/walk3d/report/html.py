@@ -10,9 +10,14 @@ import base64
 import html
 import math
 from collections.abc import Iterable, Sequence
+from os import PathLike
 from typing import Any
 
-__all__ = ["data_uri", "fmt", "img", "note", "page", "section", "table", "text"]
+__all__ = ["GENERATOR", "data_uri", "fmt", "img", "is_walk3d_page", "note", "page", "section",
+           "table", "text"]  # fmt: skip
+
+GENERATOR = '<meta name="generator" content="walk3d">'
+"""The marker in every page's head by which walk3d knows a page it wrote from a user's file."""
 
 _CSS = """
 body { font-family: system-ui, -apple-system, 'Segoe UI', sans-serif; margin: 2em auto;
@@ -89,11 +94,22 @@ def section(title: str, *parts: str, level: int = 2) -> str:
     return f"<section><h{level}>{text(title)}</h{level}>{''.join(parts)}</section>"
 
 
+def is_walk3d_page(path: str | PathLike[str]) -> bool:
+    """Whether the file ``path`` is a page walk3d wrote: :data:`GENERATOR` in its head."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(4096)
+    except OSError:
+        return False
+    return GENERATOR.encode() in head.split(b"</head>")[0]
+
+
 def page(title: str, *parts: str) -> str:
     """A complete, self-contained HTML5 document."""
     return (
         '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
         '<meta name="viewport" content="width=device-width, initial-scale=1">'
+        f"{GENERATOR}"
         f"<title>{text(title)}</title><style>{_CSS}</style></head>\n<body>"
         f"<h1>{text(title)}</h1>" + "".join(parts) + "</body></html>\n"
     )

@@ -13,7 +13,22 @@ from walk3d.io.atomic import atomic_write_text
 from walk3d.outputs import replace_files, write_errors
 from walk3d.results.prediction import MANIFEST, VIEW_FILES
 
-__all__ = ["write_view"]
+__all__ = ["is_listed_view", "write_view"]
+
+
+def is_listed_view(path: str | PathLike[str]) -> bool:
+    """Whether ``path`` is a view (:data:`VIEW_FILES`) that the manifest of the result folder
+    holding it lists: one walk3d wrote, whatever version wrote it."""
+    from walk3d.io.checks import read_json_object
+
+    file = Path(path)
+    if file.name not in VIEW_FILES or not file.is_file():
+        return False
+    try:
+        listed = read_json_object(file.parent / MANIFEST, "walk3d manifest").get("files")
+    except (OSError, ValueError):
+        return False
+    return isinstance(listed, dict) and file.name in listed
 
 
 def write_view(folder: str | PathLike[str], name: str, write: Callable[[Path], object]) -> Path:
