@@ -328,8 +328,9 @@ def is_result_folder(folder: str | PathLike[str]) -> bool:
 
 def result_folder_around(folder: str | PathLike[str]) -> Path | None:
     """The nearest walk3d result folder (:func:`is_result_folder`) that holds ``folder``
-    somewhere below it, or None."""
-    for parent in Path(os.path.abspath(folder)).parents:  # "..": as the file system reads it
+    somewhere below it, or None. The path's existing part is resolved first (links followed,
+    then ``..``: ``link/../x`` lies beside the link's target, as the file system reads it)."""
+    for parent in Path(os.path.realpath(folder)).parents:
         if is_result_folder(parent):
             return parent
     return None
