@@ -150,3 +150,16 @@ def test_a_tracking_is_known_from_its_settings(good, tmp_path):
     assert is_tracking(tmp_path)
     assert not is_tracking(good)
     assert not is_tracking(tmp_path / "missing")
+
+
+def test_an_out_in_a_missing_folder_is_made(good, tmp_path, capsys):
+    """--out nodir/aud.json passed the check, ran the audit, then could not be written (exit
+    3): its folders are made, as calibrate, report and animate make theirs. Control: a parent
+    that is a file is still refused (exit 2) before the audit."""
+    out = tmp_path / "nodir" / "sub" / "aud.json"
+    code, _, err = cli(capsys, "audit", good, good, "--out", out)
+    assert code == 0, err
+    assert "terms" in json.loads(out.read_text(encoding="utf-8"))
+    (tmp_path / "file").write_text("x")
+    one_line_error(cli(capsys, "audit", good, good, "--out", tmp_path / "file" / "aud.json"),
+                   "cannot be created", "is a file")  # fmt: skip

@@ -158,7 +158,8 @@ def audit(
     """What the prediction's criterion charges the tracked gait against the predicted one: each
     term per gait phase and in total (raw, and weighted as the criterion weighs it), each leg's
     centre-of-mass work in double support, and the right leg's joint-power bursts (J/kg).
-    Written as JSON to TRACKED/audit.json, whose report.html then shows it, or to --out.
+    Written as JSON to TRACKED/audit.json, whose report.html then shows it, or to --out (its
+    missing folders made, as calibrate, report and animate make theirs).
     TRACKED may be a prediction too (two predicted gaits, charged by PREDICTED's criterion;
     one warning line says so). Exit code 2 for a folder that is not a complete result or an
     --out that cannot be a JSON file, lies in a walk3d result folder (but TRACKED/audit.json)
@@ -194,6 +195,7 @@ def audit(
     _audit_tables(result)
     target = default if own else Path(out)
     try:
+        target.parent.mkdir(parents=True, exist_ok=True)  # as calibrate, report, animate do
         atomic_write_text(target, json.dumps(result, indent=1) + "\n")
         if own:
             from walk3d.report.writer import write_report_or_warn
