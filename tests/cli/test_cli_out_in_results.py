@@ -67,6 +67,17 @@ def test_validate_refuses_another_results_validation_folder(tmp_path, capsys, co
     one_line_error(cli(capsys, *args, complete / "validation"), "none.csv")
 
 
+def test_validate_names_out_for_another_folder_in_its_result(tmp_path, capsys, complete):
+    """validate P --out P/other was refused naming the API's out_dir; it names --out, before
+    the reference is read (control: P/validation, above, reaches the reference)."""
+    args = ["validate", complete, "--reference", tmp_path / "none.csv", "--out"]
+    one_line_error(
+        cli(capsys, *args, complete / "other"),
+        f"--out {complete / 'other'} is inside the walk3d result folder {complete}",
+    )
+    assert not (complete / "other").exists()
+
+
 def test_animate_refuses_a_video_inside_another_result_folder(tmp_path, capsys):
     """animate A --out B/animation.mp4 would have put A's walk among B's files; the control
     (--out beside them) passes the check and reaches the reading of A."""

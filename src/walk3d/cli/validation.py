@@ -68,6 +68,7 @@ def validate(
     target = out if out is not None else os.path.join(pred_dir, VALIDATION_FOLDER)
     try:
         check_validation_folder(target, "--out", home=pred_dir)  # not in another result
+        check_validation_folder(target, "--out")  # in DIR only as DIR/validation (run()'s rule)
     except ValueError as exc:
         fail(str(exc))
     try:
