@@ -138,3 +138,19 @@ def test_a_cache_path_that_is_a_file_is_said_so(tmp_path):
     assert path.read_text() == "mine"
     r = _cache(tmp_path)  # control: a folder is listed, without a warning
     assert r.returncode == 0 and "0 model entries" in r.stdout and r.stderr == ""
+
+
+def test_a_cache_path_below_a_file_is_said_so(tmp_path):
+    """WALK3D_CACHE_DIR=file/sub: was "0 model entries", and --clear "deleted 0 files" exit 0;
+    said as for the file itself. Control: a missing folder below a folder is empty."""
+    path = tmp_path / "afile"
+    path.write_text("mine")
+    r = _cache(path / "sub" / "deeper")
+    assert r.returncode == 0 and "entries" not in r.stdout, r.stdout
+    assert r.stderr == f"walk3d: warning: the model cache {path / 'sub' / 'deeper'} is not a " \
+        f"folder ({path} is a file): walk3d runs without the cache\n"  # fmt: skip
+    r = _cache(path / "sub", "--clear")
+    assert r.returncode == 2 and "nothing to clear" in r.stderr, r.stderr
+    assert len(r.stderr.splitlines()) == 1 and path.read_text() == "mine"
+    r = _cache(tmp_path / "dir" / "sub")
+    assert r.returncode == 0 and "0 model entries" in r.stdout and r.stderr == ""

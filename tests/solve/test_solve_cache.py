@@ -187,12 +187,14 @@ def test_a_cache_that_cannot_be_written_is_skipped(tmp_path, monkeypatch):
     assert model_cache.read_functions("k") is None
 
 
-def test_a_cache_folder_that_is_a_file_is_one_warning(tmp_path, monkeypatch, caplog):
-    """A file where the cache folder goes: one warning line for the process, not one per entry
-    read and written; the control, a folder there, caches."""
+@pytest.mark.parametrize("below", ["", "sub", "sub/deeper"])
+def test_a_cache_folder_that_is_a_file_is_one_warning(tmp_path, monkeypatch, caplog, below):
+    """A file where the cache folder or one of its parents goes: one warning line for the
+    process, not one per entry read and written (below a file: six in a predict); the
+    control, a folder there, caches."""
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
-    monkeypatch.setenv(model_cache.ENV_DIR, str(blocker))
+    monkeypatch.setenv(model_cache.ENV_DIR, str(blocker / below) if below else str(blocker))
     with caplog.at_level("WARNING", logger="walk3d.solve.model_cache"):
         for key in ("k1", "k2"):
             assert model_cache.read_functions(key) is None

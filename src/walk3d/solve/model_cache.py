@@ -163,11 +163,17 @@ _REFUSED: set[Path] = set()
 
 def not_a_folder() -> str | None:
     """``the model cache X is not a folder`` when something other than a folder is in the
-    cache folder's place, else None (it is a folder, or can become one)."""
+    cache folder's place, or in a parent's place (nearest existing one), else None (it is a
+    folder, or can become one)."""
     folder = cache_dir()
-    if not folder.exists() or folder.is_dir():
+    base = folder
+    while not os.path.lexists(base) and base != base.parent:
+        base = base.parent
+    if base.is_dir():
         return None
-    return f"the model cache {folder} is not a folder"
+    if base == folder:
+        return f"the model cache {folder} is not a folder"
+    return f"the model cache {folder} is not a folder ({base} is a file)"
 
 
 def _folder_usable() -> bool:
