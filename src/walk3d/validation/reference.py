@@ -250,6 +250,25 @@ def _periodic_trial(trial: Trial) -> tuple[Trial, str | None]:
                      "gap bridged linearly")  # fmt: skip
 
 
+def _check_cycles_meet_ik(trials: list[Trial]) -> None:
+    """Raise ValueError (one line) when no plate cycle of any trial meets its IK's time span:
+    the GRF and IK overlap only where no cycle is, so the reference would have no angles."""
+    spans = []
+    for t in trials:
+        cycles = _cycles(t)
+        if t.ik is None or t.ik.time.size == 0 or not cycles:
+            continue
+        a, b = float(t.ik.time[0]), float(t.ik.time[-1])
+        if any(start < b and end > a for _, start, end in cycles):
+            return
+        strikes = [start for _, start, _ in cycles]
+        spans.append(f"the GRF's heel strikes of {t.name} at {min(strikes):.3g}-"
+                     f"{max(strikes):.3g} s fall outside its IK's {a:.3g}-{b:.3g} s")  # fmt: skip
+    if spans:
+        raise ValueError("; ".join(spans) + ": no gait cycle has both angles and forces (are "
+                         "the files' times from the same clock?)")  # fmt: skip
+
+
 def trial_reference(trials: list[Trial], mass: float, knee_sign: float | str = "auto") -> Reference:
     """Pooled mean ± SD cycles of the trials (module doc), in Table 2 units. When no IK holds
     a whole cycle between plate heel strikes, IKs (and IDs) that span nearly one are taken as
@@ -257,6 +276,7 @@ def trial_reference(trials: list[Trial], mass: float, knee_sign: float | str = "
     ref = _trial_reference(trials, mass, knee_sign)
     if ref.has("angle:knee_flexion") or not any(t.ik is not None for t in trials):
         return ref
+    _check_cycles_meet_ik(trials)
     changed = [_periodic_trial(t) for t in trials]
     notes = tuple(n for _, n in changed if n)
     if not notes:
