@@ -153,6 +153,29 @@ def test_a_sweep_or_campaign_folder_is_named_as_such(tmp_path, capsys, saved, ma
     _refused(folder, "incomplete result folder: no manifest.json")
 
 
+@pytest.mark.parametrize(("marker", "inner", "words"), [
+    ("campaign.json", "starts", "is a campaign's starts folder, not a prediction: give one of its "
+     "seed_* folders"),
+    ("sweep.json", "speeds", "is a sweep's speeds folder, not a prediction: give one of its v_* "
+     "folders"),
+])  # fmt: skip
+def test_a_campaigns_starts_or_a_sweeps_speeds_folder_is_named_as_such(
+    tmp_path, capsys, saved, marker, inner, words
+):
+    """compare p1 c1/starts and audit p1 s1/speeds said "incomplete result folder"."""
+    from helpers import cli, one_line_error
+
+    (tmp_path / marker).write_text("{}\n")
+    folder = tmp_path / inner
+    shutil.copytree(saved, folder / ("seed_000000" if inner == "starts" else "v_1.300"))
+    message = _refused(folder, words)
+    assert str(folder / ("seed_000000" if inner == "starts" else "v_1.300")) in message
+    one_line_error(cli(capsys, "compare", saved, folder, "--out", tmp_path / "c"), words)
+    one_line_error(cli(capsys, "audit", saved, folder), words)
+    (tmp_path / marker).unlink()  # control: without its parent's marker, an incomplete result
+    _refused(folder, "incomplete result folder: no manifest.json")
+
+
 @pytest.mark.parametrize(("name", "factor", "words"), [
     ("joint_moment", 1e300, "beyond ±1e+06 N m"),
     ("grf_force", 1e5, "beyond ±1e+07 N"),
