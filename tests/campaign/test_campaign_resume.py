@@ -24,7 +24,7 @@ def source(tmp_path_factory):
     return folder, PredictionSettings(**summary["settings"])
 
 
-def _set_summary(folder, **changes):
+def set_summary(folder, **changes):
     """Change ``folder``'s summary.json and list its new size in the manifest (a readable
     prediction of another problem, not a damaged folder)."""
     summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
@@ -36,14 +36,14 @@ def _set_summary(folder, **changes):
     replace_result_file(folder, "summary.json", json.dumps(summary).encode())
 
 
-def _campaign(out, source, seeds=(0, 1)):
+def campaign_folder(out, source, seeds=(0, 1)):
     """A campaign folder of ``seeds`` whose starts are the source folder with that seed."""
     folder, settings = source
     store.open_campaign(out, settings, 0, len(seeds), "ipopt")
     for seed in seeds:
         tmp = store.new_temporary(store.starts_dir(out), store.start_name(seed))
         shutil.copytree(folder, tmp, dirs_exist_ok=True)
-        _set_summary(tmp, seed=seed)
+        set_summary(tmp, seed=seed)
         summary = json.loads((tmp / "summary.json").read_text(encoding="utf-8"))
         store.commit_start(tmp, seed, record_from_summary(summary, settings.model.criterion, 1))
     return out
@@ -58,18 +58,18 @@ def no_solve(monkeypatch):
     return ran
 
 
-def _start(out, seed):
+def start_path(out, seed):
     return store.starts_dir(out) / store.start_name(seed)
 
 
 def test_a_verified_resume_runs_nothing_and_copies_the_best(tmp_path, source, no_solve):
-    out = _campaign(tmp_path / "c", source)
+    out = campaign_folder(tmp_path / "c", source)
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # nothing damaged, nothing rewritten
         report = run_campaign(source[1], 2, 0, out, progress=False)
     assert no_solve == [] and report.skipped == 2 and report.best_seed == 0
     assert (out / "best" / "result.npz").read_bytes() == (
-        _start(out, 0) / "result.npz"
+        start_path(out, 0) / "result.npz"
     ).read_bytes()
 
 
@@ -79,17 +79,17 @@ def test_a_verified_resume_runs_nothing_and_copies_the_best(tmp_path, source, no
 )
 def test_a_start_folder_of_another_prediction_is_refused(tmp_path, source, no_solve, changes,
                                                          words):  # fmt: skip
-    out = _campaign(tmp_path / "c", source)
-    _set_summary(_start(out, 1), **changes)  # its record.json kept
+    out = campaign_folder(tmp_path / "c", source)
+    set_summary(start_path(out, 1), **changes)  # its record.json kept
     with pytest.raises(store.CampaignMismatch, match=words):
         run_campaign(source[1], 2, 0, out, progress=False)
     assert no_solve == [] and not (out / "best").exists()
-    assert (_start(out, 1) / "summary.json").is_file()  # not deleted
+    assert (start_path(out, 1) / "summary.json").is_file()  # not deleted
 
 
 def test_the_cli_refuses_a_foreign_start_in_one_line(tmp_path, source, capsys, no_solve):
-    out = _campaign(tmp_path / "c", source)
-    _set_summary(_start(out, 1), mass=80.0)
+    out = campaign_folder(tmp_path / "c", source)
+    set_summary(start_path(out, 1), mass=80.0)
     gait = source[1].gait  # the options of the stored campaign (the atlas's free landing)
     code, _, err = cli(capsys, "campaign", "--starts", 2, "--out", out, "--no-compile",
                        "--free-landing", "--speed", gait.speed, "--period", repr(gait.period),
@@ -99,18 +99,18 @@ def test_the_cli_refuses_a_foreign_start_in_one_line(tmp_path, source, capsys, n
 
 
 def test_a_damaged_start_is_run_again_with_a_warning(tmp_path, source, no_solve):
-    out = _campaign(tmp_path / "c", source)
-    summary = _start(out, 0) / "summary.json"
+    out = campaign_folder(tmp_path / "c", source)
+    summary = start_path(out, 0) / "summary.json"
     summary.write_text(summary.read_text(encoding="utf-8") + " ", encoding="utf-8")  # size off
     with pytest.warns(RuntimeWarning, match="seed_000000 cannot be read.*running seed 0 again"):
         report = run_campaign(source[1], 2, 0, out, progress=False)
-    assert no_solve == [0] and not _start(out, 0).exists()
+    assert no_solve == [0] and not start_path(out, 0).exists()
     assert report.best_seed == 1  # the damaged start is not ranked nor copied
 
 
 def test_the_ranking_takes_the_verified_value_not_the_record(tmp_path, source, no_solve):
-    out = _campaign(tmp_path / "c", source)
-    path = _start(out, 1) / "record.json"
+    out = campaign_folder(tmp_path / "c", source)
+    path = start_path(out, 1) / "record.json"
     record = json.loads(path.read_text(encoding="utf-8"))
     true_value = record["criterion_value"]
     path.write_text(json.dumps(record | {"criterion_value": -100.0}), encoding="utf-8")
@@ -124,7 +124,7 @@ def test_the_ranking_takes_the_verified_value_not_the_record(tmp_path, source, n
 
 
 def test_a_record_only_start_that_claims_convergence_is_run_again(tmp_path, source, no_solve):
-    out = _campaign(tmp_path / "c", source, seeds=(0,))
+    out = campaign_folder(tmp_path / "c", source, seeds=(0,))
     store.open_campaign(out, source[1], 0, 2, "ipopt")
     tmp = store.new_temporary(store.starts_dir(out), store.start_name(1))
     store.commit_start(tmp, 1, {"seed": 1, "status": "Solve_Succeeded", "converged": True,

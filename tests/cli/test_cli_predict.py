@@ -288,6 +288,29 @@ def test_exit_code_says_whether_the_written_gait_walks(summary, code):
     assert exit_code(summary) == code
 
 
+@pytest.mark.parametrize("summary, code, words", [
+    ({"converged": False, "status": "Maximum_Iterations_Exceeded",
+      "gait_checks": {"looks_like_walking": False}}, 1,
+     "the solve did not converge (Maximum_Iterations_Exceeded): not a valid prediction"),
+    ({"converged": True, "gait_checks": {"looks_like_walking": False}}, 4,
+     "the gait does not look like walking (summary gait_checks)"),
+    ({"converged": True, "gait_checks": {"looks_like_walking": True}}, 0, None),
+])  # fmt: skip
+def test_predict_warns_in_one_line_of_a_result_that_is_not_a_valid_walk(
+    capsys, summary, code, words
+):
+    """predict --max-iter 3 exited 1 with "NO" in its table but no warning line, which compare,
+    validate and animate print; a converged walk prints none (the control)."""
+    from walk3d.cli.labels import predict_exit_code
+
+    assert predict_exit_code("X", summary) == code
+    err = capsys.readouterr().err
+    if words is None:
+        assert err == ""
+    else:
+        assert err.splitlines() == [f"walk3d: warning: X: {words}"]
+
+
 @pytest.mark.solve
 @pytest.mark.parametrize("bar_bw", [0.5, None])
 def test_a_converged_gait_that_does_not_walk_exits_4_with_one_line(tmp_path, monkeypatch, bar_bw):
@@ -311,8 +334,10 @@ def test_a_converged_gait_that_does_not_walk_exits_4_with_one_line(tmp_path, mon
     assert r.exit_code == (0 if walks else 4), r.stderr
     if not walks:
         assert r.stderr.strip().splitlines() == [
-            "walk3d: the converged gait does not look like walking; written and labelled"
+            f"walk3d: warning: {out}: the gait does not look like walking (summary gait_checks)"
         ]
+    else:
+        assert "walk3d: warning:" not in r.stderr, r.stderr
 
 
 @pytest.mark.solve

@@ -4,6 +4,7 @@ manifest that lists a path; each one DataFileError line (exit code 2 on the comm
 from __future__ import annotations
 
 import io
+import json
 import shutil
 
 import numpy as np
@@ -153,6 +154,29 @@ def test_a_sweep_or_campaign_folder_is_named_as_such(tmp_path, capsys, saved, ma
     _refused(folder, "incomplete result folder: no manifest.json")
 
 
+@pytest.mark.parametrize(("marker", "inner", "words"), [
+    ("campaign.json", "starts", "is a campaign's starts folder, not a prediction: give one of its "
+     "seed_* folders"),
+    ("sweep.json", "speeds", "is a sweep's speeds folder, not a prediction: give one of its v_* "
+     "folders"),
+])  # fmt: skip
+def test_a_campaigns_starts_or_a_sweeps_speeds_folder_is_named_as_such(
+    tmp_path, capsys, saved, marker, inner, words
+):
+    """compare p1 c1/starts and audit p1 s1/speeds said "incomplete result folder"."""
+    from helpers import cli, one_line_error
+
+    (tmp_path / marker).write_text("{}\n")
+    folder = tmp_path / inner
+    shutil.copytree(saved, folder / ("seed_000000" if inner == "starts" else "v_1.300"))
+    message = _refused(folder, words)
+    assert str(folder / ("seed_000000" if inner == "starts" else "v_1.300")) in message
+    one_line_error(cli(capsys, "compare", saved, folder, "--out", tmp_path / "c"), words)
+    one_line_error(cli(capsys, "audit", saved, folder), words)
+    (tmp_path / marker).unlink()  # control: without its parent's marker, an incomplete result
+    _refused(folder, "incomplete result folder: no manifest.json")
+
+
 @pytest.mark.parametrize(("name", "factor", "words"), [
     ("joint_moment", 1e300, "beyond ±1e+06 N m"),
     ("grf_force", 1e5, "beyond ±1e+07 N"),
@@ -170,6 +194,51 @@ def test_an_implausible_magnitude_is_refused_under_a_forged_manifest(
     replace_result_file(copy, "result.npz", _npz(copy, **{name: scaled}))
     _refused(copy, "result.npz", name, words, "not a walking result")
     one_line_error(cli(capsys, "compare", copy, copy, "--out", tmp_path / "c"), name, words)
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    (lambda m: m * np.where(np.arange(m.size) == 1, -1.0, 1.0), "segment_mass holds -"),
+    (lambda m: m * np.where(np.arange(m.size) == 0, 0.0, 1.0), "segment_mass holds 0 kg"),
+    (lambda m: m * 0.9, "segment_mass sums to"),
+])  # fmt: skip
+def test_a_segment_mass_that_is_not_positive_or_not_the_body_mass_is_refused(
+    copy, tmp_path, capsys, change, words
+):
+    """A negative segment mass under a forged manifest passed: compare showed 61.94 kg of body
+    for a summary of 68.8 kg."""
+    from helpers import cli, one_line_error
+
+    summary = json.loads((copy / "summary.json").read_text())
+    with np.load(copy / "result.npz") as data:
+        mass = data["segment_mass"]
+    summary["body_mass_kg"] = float(mass.sum())
+    replace_result_file(copy, "summary.json", json.dumps(summary).encode())
+    assert load_result(copy).body_mass == pytest.approx(summary["body_mass_kg"])  # control
+    replace_result_file(copy, "result.npz", _npz(copy, segment_mass=change(mass)))
+    _refused(copy, "result.npz", words)
+    one_line_error(cli(capsys, "compare", copy, copy, "--out", tmp_path / "c"), words)
+
+
+def test_the_body_mass_check_allows_added_mass_and_de_levas_rounding(tmp_path):
+    """A what-if added mass is in both the segments and body_mass_kg; a female body's segments
+    sum to 0.9999 of its mass: both accepted. save_prediction refuses a body mass 10 % off."""
+    from dataclasses import replace
+
+    from walk3d.body.changes import apply_changes
+    from walk3d.body.model import build_body
+    from walk3d.results.readback import check_masses
+
+    for sex, added in (("female", ()), ("male", (("torso", 10.0), ("foot", 2.0)))):
+        body = apply_changes(build_body(68.8, 1.77, sex), (), added, ())
+        check_masses("result.npz", np.array([s.mass for s in body.segments]),
+                     {"body_mass_kg": body.mass})  # fmt: skip
+    pred = make_prediction(seed=4)
+    bad = replace(pred, summary=pred.summary | {"body_mass_kg": pred.body_mass * 1.1})
+    with pytest.raises(ValueError, match="segment_mass sums to .* body_mass_kg"):
+        save_prediction(bad, tmp_path / "bad")
+    assert not (tmp_path / "bad").exists()
+    good = replace(pred, summary=pred.summary | {"body_mass_kg": pred.body_mass})  # control
+    assert load_result(save_prediction(good, tmp_path / "ok")).n_nodes > 0
 
 
 def test_save_refuses_what_load_would_refuse(tmp_path):

@@ -4,9 +4,11 @@ result loader before any solve, as ``walk3d sweep`` reads its speeds
 
 * a start folder that is damaged (incomplete against its manifest, an unreadable summary, arrays
   not tied to it, a record that says converged without a result): run again, with a warning;
-* a start folder holding a readable prediction of another problem or another seed: refused
+* a start folder holding a readable prediction of another problem or another seed (its summary
+  read even when the rest is damaged): refused
   (:class:`~walk3d.campaign.store.CampaignMismatch`), not replaced, since it may be someone's
-  result put there by mistake;
+  result put there by mistake; so is one holding files walk3d did not write
+  (:mod:`walk3d.campaign.start_folders`, checked first);
 * the ranking values (criterion value, convergence, status) come from the result's summary,
   not from ``record.json``, which a hand edit could change.
 """
@@ -73,18 +75,24 @@ def _verified(folder: Path, seed: int, settings: PredictionSettings, record: dic
 
     criterion = settings.model.criterion
     if not (folder / MANIFEST).exists() and not (folder / "summary.json").exists():
+        if not record:
+            raise ValueError(f"no readable {store.RECORD_FILE} and no result")
         status = record.get("status")  # a start that raised: a record-only folder
         if record.get("converged") or not str(status).startswith("error: "):
             raise ValueError("its record says it finished, but it holds no result")
         return record | {"converged": False, "criterion_value": None}
-    check_complete(folder)
-    summary = read_json_object(folder / "summary.json", "walk3d summary")
-    why = start_difference(summary, settings, seed)
+    try:  # a readable summary of another problem is refused even when the folder is damaged
+        summary = read_json_object(folder / "summary.json", "walk3d summary")
+    except (OSError, ValueError):
+        summary = None
+    why = None if summary is None else start_difference(summary, settings, seed)
     if why is not None:
         raise store.CampaignMismatch(
             f"{folder} holds a prediction that {why}; remove that folder to run seed {seed} "
             "again, or use a new --out"
         )
+    check_complete(folder)
+    summary = summary or read_json_object(folder / "summary.json", "walk3d summary")
     check_arrays(folder, summary)
     spent = record.get("task_time_s")
     spent = float(spent) if isinstance(spent, (int, float)) and not isinstance(spent, bool) else 0
@@ -124,8 +132,9 @@ def verified_records(
         changed = [k for k in RANKED if verified.get(k) != records[seed].get(k)]
         if changed:  # ranking.csv and report.html read the records: they agree with the result
             store.write_json(folder / store.RECORD_FILE, verified)
-            warnings.warn(f"{folder / store.RECORD_FILE} did not match its result "
-                          f"({', '.join(changed)}): rewritten from it", RuntimeWarning,
-                          stacklevel=2)  # fmt: skip
+            how = f"did not match its result ({', '.join(changed)})" if records[seed] else (
+                "was missing or unreadable")  # fmt: skip
+            warnings.warn(f"{folder / store.RECORD_FILE} {how}: rewritten from its result",
+                          RuntimeWarning, stacklevel=2)  # fmt: skip
         records[seed] = verified
     return again

@@ -36,7 +36,7 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-from walk3d.campaign import ranking, resume, store, task
+from walk3d.campaign import ranking, resume, start_folders, store, task
 from walk3d.model import terms
 from walk3d.problem.settings import PredictionSettings, available_cores
 
@@ -243,7 +243,9 @@ def run_campaign(
     """Run (or resume) the campaign of ``starts`` random starts in ``out_dir``.
 
     Finished starts already in ``out_dir`` are skipped once verified
-    (:mod:`walk3d.campaign.resume`: a damaged one runs again, another problem's is refused).
+    (:mod:`walk3d.campaign.resume`: a damaged one runs again, another problem's is refused, as
+    is a start entry that is a file, a link or holds files walk3d did not write:
+    :mod:`walk3d.campaign.start_folders`).
     Every start that finishes is written at once, atomically; failed solves, exceptions and
     dead workers are recorded, never fatal.
     Finally ``ranking.csv`` and ``best/`` are written for every start in the folder.
@@ -252,7 +254,8 @@ def run_campaign(
         ValueError: invalid ``starts``, ``base_seed``, ``workers`` or ``solver``, or a
             ``scheduler`` that is malformed or does not answer (:func:`check_scheduler`).
         walk3d.campaign.store.CampaignMismatch: ``out_dir`` holds a different campaign, or a
-            start folder holds another problem's or another seed's prediction.
+            start folder holds another problem's or another seed's prediction, or is not
+            walk3d's own (:func:`~walk3d.campaign.start_folders.resumable_records`).
     """
     _validate(starts, base_seed, workers, solver)
     if scheduler:
@@ -261,7 +264,7 @@ def run_campaign(
     out = Path(out_dir)
     store.open_campaign(out, settings, base_seed, starts, solver)
     removed = store.clean_temporaries(out)
-    records = store.finished_records(out, repair=True)
+    records = start_folders.resumable_records(out)  # refuses what is not walk3d's own
     seeds = [base_seed + k for k in range(starts)]
     resume.verified_records(out, settings, records, seeds)  # before any solve
     retried = store.forget_environment_failures(out, records, seeds)

@@ -13,7 +13,9 @@ A campaign folder ``DIR`` holds:
   ``traceback.txt``);
 * ``ranking.csv`` and ``best/`` (see :mod:`walk3d.campaign.ranking`).
 
-Leftover temporaries (``.tmp_*``) come from interrupted runs and are deleted on resume.
+Leftover temporaries (``.tmp_*``) come from interrupted runs and are deleted on resume; a
+``seed_*`` entry that is not such a folder is refused, never deleted
+(:mod:`walk3d.campaign.start_folders`).
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ __all__ = [
     "CAMPAIGN_FILE",
     "CampaignMismatch",
     "RECORD_FILE",
+    "START_RE",
     "clean_temporaries",
     "commit_start",
     "finished_records",
@@ -57,7 +60,7 @@ __all__ = [
 CAMPAIGN_FILE = "campaign.json"
 RECORD_FILE = "record.json"
 STARTS_DIR = "starts"
-_START_RE = re.compile(r"^seed_(\d{6,})$")
+START_RE = re.compile(r"^seed_(\d{6,})$")
 
 
 class CampaignMismatch(ValueError):
@@ -215,26 +218,21 @@ def read_record(folder: Path) -> dict | None:
         return None
 
 
-def finished_records(out_dir: str | Path, repair: bool = False) -> dict[int, dict]:
-    """Records of the finished starts, by seed.
-
-    With ``repair``, a final folder without a readable record (possible only if edited by
-    hand) is deleted so that its start runs again.
-    """
+def finished_records(out_dir: str | Path) -> dict[int, dict]:
+    """Records of the finished starts, by seed (a start folder without a readable record of its
+    own seed, or that is a link, is skipped; a resume refuses it:
+    :func:`walk3d.campaign.start_folders.resumable_records`)."""
     records: dict[int, dict] = {}
     root = starts_dir(out_dir)
     if not root.is_dir():
         return records
     for folder in sorted(root.iterdir()):
-        m = _START_RE.match(folder.name)
-        if not m or not folder.is_dir():
+        m = START_RE.match(folder.name)
+        if not m or folder.is_symlink() or not folder.is_dir():
             continue
         record = read_record(folder)
-        if record is None or record.get("seed") != int(m.group(1)):
-            if repair:
-                shutil.rmtree(folder, ignore_errors=True)
-            continue
-        records[int(m.group(1))] = record
+        if record is not None and record.get("seed") == int(m.group(1)):
+            records[int(m.group(1))] = record
     return records
 
 

@@ -14,7 +14,6 @@ from walk3d.cli import changes as what_if
 from walk3d.cli import finished
 from walk3d.cli.changes import AddedMass, EqualSteps, FullCycle, LegLength, Range, Strength
 from walk3d.cli.common import (
-    EXIT_NOT_WALKING,
     EXIT_WRITE,
     SOLVER,
     CalibrationFile,
@@ -42,14 +41,12 @@ from walk3d.cli.common import (
     TrialGrf,
     app,
     console,
-    err_console,
-    exit_code,
     fail,
     gait_fields,
     paper_case,
     settings_from_options,
 )
-from walk3d.cli.labels import start_text
+from walk3d.cli.labels import predict_exit_code, start_text
 from walk3d.cli.warning_lines import warned
 from walk3d.model.terms import DEFAULT_PRESET
 
@@ -310,10 +307,7 @@ def _predict_and_show(settings, seed: int, solver: str, out: str, animate: bool,
         f"{'yes' if g['two_fy_humps'] else 'no'})",
     )
     console.print(t)
-    code = exit_code(s)
-    if code == EXIT_NOT_WALKING:
-        line = "walk3d: the converged gait does not look like walking; written and labelled"
-        err_console.print(line, markup=False)
+    code = predict_exit_code(out, s)  # one warning line unless it converged and walks
     if code:
         raise typer.Exit(code)
 

@@ -1,7 +1,8 @@
 """How the commands label a result: the warning line of a command that reads a result which is
 not a valid walking prediction (:func:`walk3d.results.labels.invalid_reason`; ``compare``,
 ``validate`` and ``animate`` keep their exit codes, as ``walk3d report`` does, and say so on
-standard error), and where a prediction started."""
+standard error; ``predict`` prints the same line beside its exit code), and where a prediction
+started."""
 
 from __future__ import annotations
 
@@ -9,9 +10,10 @@ import os
 import sys
 from typing import Any
 
+from walk3d.cli.common import exit_code
 from walk3d.results.labels import invalid_reason
 
-__all__ = ["start_text", "warn_if_invalid"]
+__all__ = ["predict_exit_code", "start_text", "warn_if_invalid"]
 
 
 def warn_if_invalid(folder: str | os.PathLike[str], summary: dict[str, Any]) -> str | None:
@@ -21,6 +23,13 @@ def warn_if_invalid(folder: str | os.PathLike[str], summary: dict[str, Any]) -> 
     if reason is not None:
         sys.stderr.write(f"walk3d: warning: {os.fspath(folder)}: {reason}\n")
     return reason
+
+
+def predict_exit_code(folder: str | os.PathLike[str], summary: dict[str, Any]) -> int:
+    """``walk3d predict``'s exit code for the result written in ``folder``
+    (:func:`~walk3d.cli.common.exit_code`), after its :func:`warn_if_invalid` line if any."""
+    warn_if_invalid(folder, summary)
+    return exit_code(summary)
 
 
 def start_text(summary: dict) -> str:

@@ -61,7 +61,7 @@ from walk3d.results.inverse_dynamics import write_inverse_dynamics
 from walk3d.results.lab_trial import write_markers_c3d
 from walk3d.results.opensim import write_grf, write_motion
 from walk3d.results.osim_model import motion_extent, osim_model, prediction_body
-from walk3d.results.readback import NAME_FIELDS, read_field, readable_arrays
+from walk3d.results.readback import NAME_FIELDS, check_masses, read_field, readable_arrays
 
 __all__ = [
     "C3D_FILES",
@@ -254,7 +254,7 @@ def save_prediction(
         ValueError: an array :func:`load_result` would refuse (non-finite, time not a cycle).
     """
     out = Path(out_dir)
-    arrays = readable_arrays(_npz_arrays(pred), out)  # refused before anything is written
+    arrays = readable_arrays(_npz_arrays(pred), out, pred.summary)  # refused before writing
     with atomic_folder(out) as tmp:
         buffer = io.BytesIO()
         np.savez(buffer, **arrays)
@@ -365,7 +365,9 @@ def load_result(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> P
         DataFileError: the folder is incomplete (:func:`check_complete`), ``result.npz`` is
             damaged, lacks an array, holds NaN or infinite values (NaN centres of pressure
             aside) or a ``time`` that is not a cycle (:func:`~walk3d.io.checks.time_samples`:
-            fewer than 11 samples, not increasing), or ``summary.json`` is not a JSON object.
+            fewer than 11 samples, not increasing), segment masses that are not positive or
+            not the summary's body mass (:func:`~walk3d.results.readback.check_masses`), or
+            ``summary.json`` is not a JSON object.
     """
     check_complete(out_dir, remade)
     out = Path(out_dir)
@@ -375,6 +377,7 @@ def load_result(out_dir: str | PathLike[str], remade: Collection[str] = ()) -> P
     for f in fields(PredictedCycle):
         if f.name != "summary":
             values[f.name] = read_field(npz_path, f.name, arrays.get(f.name))
+    check_masses(npz_path, values["segment_mass"], values["summary"])
     try:
         return PredictedCycle(**values)
     except ValueError as exc:

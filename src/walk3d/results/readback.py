@@ -1,7 +1,8 @@
 """What :func:`walk3d.results.prediction.save_prediction` may write: only arrays that
 :func:`~walk3d.results.prediction.load_result` reads back (finite, NaN centres of pressure
-aside; within :data:`BOUNDS`; a time axis of enough increasing samples), checked before
-anything is written; and how ``load_result`` reads each array (:func:`read_field`)."""
+aside; within :data:`BOUNDS`; a time axis of enough increasing samples; positive segment
+masses that sum to the summary's body mass), checked before anything is written; and how
+``load_result`` reads each array (:func:`read_field`)."""
 
 from __future__ import annotations
 
@@ -14,7 +15,15 @@ import numpy as np
 from walk3d.io.checks import require_finite, time_samples
 from walk3d.io.errors import DataFileError
 
-__all__ = ["BOUNDS", "NAME_FIELDS", "check_bound", "read_field", "readable_arrays"]
+__all__ = [
+    "BOUNDS",
+    "MASS_TOLERANCE",
+    "NAME_FIELDS",
+    "check_bound",
+    "check_masses",
+    "read_field",
+    "readable_arrays",
+]
 
 NAME_FIELDS = ("segment_names", "dof_names", "joint_names")
 """The arrays of ``result.npz`` that hold names."""
@@ -37,6 +46,28 @@ refused beyond it as damage, not a walk. Each is orders of magnitude above any h
 (joint moments of about 200 N m, ground reactions of about 2 kN, a cycle of about 1 s and
 1.5 m, angles within ±180°, unit quaternions) yet small enough that squares and products of
 them (RMSE, r, joint power) stay far from overflow: no computation then warns of one."""
+
+
+MASS_TOLERANCE = 1e-3
+"""Largest relative difference between the segment masses' sum and the summary's
+``body_mass_kg`` (which includes what-if added masses): de Leva's female mass fractions sum to
+0.9999, so a walk3d result differs by 1e-4; a damaged array by far more."""
+
+
+def check_masses(path: str | PathLike[str], segment_mass: np.ndarray, summary: dict) -> None:
+    """One DataFileError line for a segment mass that is not positive, or segment masses whose sum
+    is not the summary's ``body_mass_kg`` (when it records one) within :data:`MASS_TOLERANCE`."""
+    mass = np.asarray(segment_mass, dtype=float).reshape(-1)
+    if mass.size and not (mass > 0).all():
+        k = int(np.flatnonzero(~(mass > 0))[0])
+        raise DataFileError(path, f"segment_mass holds {mass[k]:.6g} kg at [{k}], not a positive "
+                            "mass: not a walking result")  # fmt: skip
+    body = summary.get("body_mass_kg")
+    if isinstance(body, (int, float)) and not isinstance(body, bool):
+        total = float(mass.sum())
+        if not abs(total - body) <= MASS_TOLERANCE * abs(body):
+            raise DataFileError(path, f"segment_mass sums to {total:.6g} kg, but summary.json's "
+                                f"body_mass_kg is {body:.6g} kg: not its body")  # fmt: skip
 
 
 def read_field(npz_path: Path, name: str, arr: np.ndarray | None) -> Any:
@@ -75,10 +106,10 @@ def check_bound(path: str | PathLike[str], name: str, arr: np.ndarray) -> None:
                             f"±{bound:g} {unit}".rstrip() + ": not a walking result")  # fmt: skip
 
 
-def readable_arrays(arrays: dict[str, np.ndarray],
-                    out_dir: str | PathLike[str]) -> dict[str, np.ndarray]:  # fmt: skip
-    """``arrays`` (``result.npz``'s, as saved) when walk3d reads them back, else one
-    ValueError line naming the array and its first bad element."""
+def readable_arrays(arrays: dict[str, np.ndarray], out_dir: str | PathLike[str],
+                    summary: dict | None = None) -> dict[str, np.ndarray]:  # fmt: skip
+    """``arrays`` (``result.npz``'s, as saved) when walk3d reads them back with ``summary``
+    (:func:`check_masses`), else one ValueError line naming the array and its first bad element."""
     for name, arr in arrays.items():
         if arr.dtype.kind != "f":  # names and joint_axis_active: checked by their types
             continue
@@ -91,4 +122,11 @@ def readable_arrays(arrays: dict[str, np.ndarray],
         except DataFileError as exc:
             raise ValueError(f"cannot save the result to {out_dir}: {exc.reason}; walk3d could "
                              "not read it back") from None  # fmt: skip
+    try:
+        if "segment_mass" in arrays:
+            check_masses("result.npz", arrays["segment_mass"], summary or {})
+    except DataFileError as exc:
+        raise ValueError(
+            f"cannot save the result to {out_dir}: {exc.reason}; walk3d could not read it back"
+        ) from None
     return arrays
