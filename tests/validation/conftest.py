@@ -46,3 +46,11 @@ def synthetic_prediction():
     ev = evaluate_cycle(body, settings, x)
     summary = {"settings": settings.model_dump(), "objective": ev.criteria}
     return make_prediction(ev.prediction_arrays, summary)
+
+
+@pytest.fixture(scope="module")
+def pred_dir(synthetic_prediction, tmp_path_factory):
+    """The synthetic prediction saved as a result folder, once per test module."""
+    from walk3d.results.prediction import save_prediction
+
+    return save_prediction(synthetic_prediction, tmp_path_factory.mktemp("pred") / "p")

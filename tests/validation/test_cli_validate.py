@@ -1,32 +1,8 @@
 """walk3d validate / calibrate: bad input is one line and exit 2; a full run writes its files."""
 
-import subprocess
-import sys
-
 import pytest
 from helpers import replace_result_file, storage_with_nan
-from validation_support import cli_env
-
-from walk3d.results.prediction import save_prediction
-
-
-def _run(*args, timeout=120):
-    cmd = [sys.executable, "-m", "walk3d.cli", *map(str, args)]
-    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=cli_env())
-
-
-def _one_line_error(r, *words):
-    assert r.returncode == 2, r.stdout + r.stderr
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("walk3d: error:"), r.stderr
-    assert "Traceback" not in r.stderr
-    for w in words:
-        assert w in lines[0], r.stderr
-
-
-@pytest.fixture(scope="module")
-def pred_dir(synthetic_prediction, tmp_path_factory):
-    return save_prediction(synthetic_prediction, tmp_path_factory.mktemp("pred") / "p")
+from validation_support import exits_with_one_line, run_walk3d
 
 
 def test_an_incomplete_result_folder_is_refused(pred_dir, tmp_path, falisse):
@@ -35,16 +11,16 @@ def test_an_incomplete_result_folder_is_refused(pred_dir, tmp_path, falisse):
     bad = tmp_path / "p"
     shutil.copytree(pred_dir, bad)
     (bad / "motion.mot").unlink()  # what a crash between two files left before atomic folders
-    r = _run("validate", bad, "--reference", falisse / "cycle_right_leg_mean_sd.csv")
-    _one_line_error(r, "incomplete result folder: motion.mot is missing")
+    r = run_walk3d("validate", bad, "--reference", falisse / "cycle_right_leg_mean_sd.csv")
+    exits_with_one_line(r, "incomplete result folder: motion.mot is missing")
 
 
 def test_nan_in_a_reference_ik_file_is_refused_naming_file_and_column(pred_dir, tmp_path, falisse):
     bad = storage_with_nan(falisse / "gait_1_ik.mot", tmp_path / "bad_ik.mot", "knee_angle_r",
                            range(40, 60))  # fmt: skip
-    r = _run("validate", pred_dir, "--reference", bad, "--reference",
+    r = run_walk3d("validate", pred_dir, "--reference", bad, "--reference",
              falisse / "gait_1_grf.mot", "--out", tmp_path / "v")  # fmt: skip
-    _one_line_error(r, "bad_ik.mot", "knee_angle_r", "data row 41")
+    exits_with_one_line(r, "bad_ik.mot", "knee_angle_r", "data row 41")
     assert "quaternions" not in r.stderr
 
 
@@ -54,7 +30,9 @@ def test_malformed_cycle_table(pred_dir, tmp_path):
     lines[7] = lines[7].replace(",", ",x", 1)
     bad = tmp_path / "bad.csv"
     bad.write_text("\n".join(lines) + "\n")
-    _one_line_error(_run("validate", pred_dir, "--reference", bad), "bad.csv:8", "not a number")
+    exits_with_one_line(
+        run_walk3d("validate", pred_dir, "--reference", bad), "bad.csv:8", "not a number"
+    )
     assert not (pred_dir / "validation").exists()
 
 
@@ -62,7 +40,7 @@ def test_truncated_trial_storage(pred_dir, tmp_path, falisse):
     lines = (falisse / "gait_1_ik.mot").read_text().splitlines()
     bad = tmp_path / "ik.mot"
     bad.write_text("\n".join(lines[:-5]) + "\n")
-    _one_line_error(_run("validate", pred_dir, "--reference", bad), "ik.mot", "rows")
+    exits_with_one_line(run_walk3d("validate", pred_dir, "--reference", bad), "ik.mot", "rows")
 
 
 @pytest.mark.parametrize("value", ["0", "1.5"])
@@ -74,19 +52,22 @@ def test_a_trial_storage_whose_time_is_constant_is_refused(pred_dir, tmp_path, f
     lines[head:] = [value + "\t" + line.split(maxsplit=1)[1] for line in lines[head:]]
     bad = tmp_path / "ik.mot"
     bad.write_text("\n".join(lines) + "\n")
-    r = _run("validate", pred_dir, "--reference", bad, "--reference", falisse / "gait_1_grf.mot",
-             "--out", tmp_path / "v")  # fmt: skip
-    _one_line_error(r, "ik.mot", "time is not increasing")
+    r = run_walk3d("validate", pred_dir, "--reference", bad, "--reference",
+                   falisse / "gait_1_grf.mot", "--out", tmp_path / "v")  # fmt: skip
+    exits_with_one_line(r, "ik.mot", "time is not increasing")
     assert not (tmp_path / "v").exists()
 
 
 def test_unknown_reference_and_missing_inputs(pred_dir, tmp_path):
     odd = tmp_path / "odd.sto"
     odd.write_text("x\nversion=1\nendheader\ntime\tfoo\n0\t1\n0.01\t2\n")
-    _one_line_error(_run("validate", pred_dir, "--reference", odd), "neither")
-    _one_line_error(_run("validate", pred_dir, "--reference", tmp_path / "none.csv"), "not found")
-    _one_line_error(_run("validate", tmp_path / "nopred", "--reference", odd), "prediction")
-    r = _run("validate", pred_dir)
+    exits_with_one_line(run_walk3d("validate", pred_dir, "--reference", odd), "neither")
+    exits_with_one_line(
+        run_walk3d("validate", pred_dir, "--reference", tmp_path / "none.csv"), "not found"
+    )
+    r = run_walk3d("validate", tmp_path / "nopred", "--reference", odd)
+    exits_with_one_line(r, "prediction")
+    r = run_walk3d("validate", pred_dir)
     assert r.returncode == 2 and "reference" in r.stderr and len(r.stderr.splitlines()) == 1
 
 
@@ -100,9 +81,9 @@ def test_unknown_reference_and_missing_inputs(pred_dir, tmp_path):
 )
 def test_a_bad_belt_speed_is_one_plain_line(pred_dir, tmp_path, falisse, speed, words):
     """The settings' check, not pydantic's multi-line error with its web link."""
-    r = _run("validate", pred_dir, "--reference", falisse / "gait_1_ik.mot", "--reference",
+    r = run_walk3d("validate", pred_dir, "--reference", falisse / "gait_1_ik.mot", "--reference",
              falisse / "gait_1_grf.mot", "--speed", speed, "--out", tmp_path / "v")  # fmt: skip
-    _one_line_error(r, words)
+    exits_with_one_line(r, words)
     assert "pydantic" not in r.stderr and "validation error" not in r.stderr
     assert not (tmp_path / "v").exists()
 
@@ -111,8 +92,8 @@ def test_a_bad_belt_speed_is_one_plain_line(pred_dir, tmp_path, falisse, speed, 
 def test_a_bad_speed_is_refused_with_a_cycle_table_too(pred_dir, tmp_path, falisse, speed):
     """--speed nan was ignored (exit 0) when the reference is a cycle table."""
     args = ["validate", pred_dir, "--reference", falisse / "cycle_right_leg_mean_sd.csv"]
-    r = _run(*args, "--speed", speed, "--out", tmp_path / "v")
-    _one_line_error(r, "--speed must be a finite positive number")
+    r = run_walk3d(*args, "--speed", speed, "--out", tmp_path / "v")
+    exits_with_one_line(r, "--speed must be a finite positive number")
     assert not (tmp_path / "v").exists()
 
 
@@ -143,11 +124,11 @@ def test_the_library_validates_with_a_good_threshold_and_speed(synthetic_predict
 def test_a_bad_threshold_is_one_line_naming_it(pred_dir, tmp_path, falisse, value):
     """--threshold nan passed the check (nan <= 0 is false). Control: a good one validates."""
     args = ["validate", pred_dir, "--reference", falisse / "cycle_right_leg_mean_sd.csv"]
-    r = _run(*args, "--threshold", value, "--out", tmp_path / "v")
-    _one_line_error(r, f"--threshold must be a finite positive number, got {float(value)}")
+    r = run_walk3d(*args, "--threshold", value, "--out", tmp_path / "v")
+    exits_with_one_line(r, f"--threshold must be a finite positive number, got {float(value)}")
     assert not (tmp_path / "v").exists()
     if value == "0":  # control, once: a good threshold validates
-        assert _run(*args, "--threshold", "20", "--out", tmp_path / "v").returncode == 0
+        assert run_walk3d(*args, "--threshold", "20", "--out", tmp_path / "v").returncode == 0
 
 
 @pytest.mark.parametrize(
@@ -159,10 +140,10 @@ def test_forward_without_a_c3d_reference_is_refused(pred_dir, tmp_path, falisse,
     """--forward up with a cycle table was neither checked nor used (exit 0); a C3D reference
     had it refused. Negative control: the same run without --forward validates."""
     args = ["validate", pred_dir, "--reference", falisse / "cycle_right_leg_mean_sd.csv"]
-    _one_line_error(_run(*args, "--forward", forward, "--out", tmp_path / "v"), words)
+    exits_with_one_line(run_walk3d(*args, "--forward", forward, "--out", tmp_path / "v"), words)
     assert not (tmp_path / "v").exists()
     if forward == "up":  # the control, once
-        assert _run(*args, "--out", tmp_path / "v").returncode == 0
+        assert run_walk3d(*args, "--out", tmp_path / "v").returncode == 0
 
 
 def test_the_library_checks_forward_before_any_work(tmp_path):
@@ -179,35 +160,36 @@ def test_the_library_checks_forward_before_any_work(tmp_path):
 
 
 def test_calibrate_bad_input(tmp_path, falisse):
-    _one_line_error(
-        _run("calibrate", "--ik", tmp_path / "no.mot", "--grf", falisse / "gait_1_grf.mot",
+    exits_with_one_line(
+        run_walk3d("calibrate", "--ik", tmp_path / "no.mot", "--grf", falisse / "gait_1_grf.mot",
              "--out", tmp_path / "c.json"), "no.mot")  # fmt: skip
-    _one_line_error(
-        _run("calibrate", "--ik", falisse / "gait_1_ik.mot", "--grf", falisse / "gait_1_ik.mot",
-             "--out", tmp_path / "c.json"), "ground reaction")  # fmt: skip
+    exits_with_one_line(
+        run_walk3d("calibrate", "--ik", falisse / "gait_1_ik.mot", "--grf",
+                   falisse / "gait_1_ik.mot", "--out", tmp_path / "c.json"),
+        "ground reaction")  # fmt: skip
     assert not (tmp_path / "c.json").exists()
 
 
 def test_predict_from_trial_bad_input(tmp_path, falisse):
-    _one_line_error(_run("predict", "--out", tmp_path / "o", "--from-trial",
+    exits_with_one_line(run_walk3d("predict", "--out", tmp_path / "o", "--from-trial",
                          falisse / "gait_1_ik.mot"), "--grf")  # fmt: skip
     # the trial's descriptors reach the settings check (an invalid --nodes stops before solving)
-    r = _run("predict", "--out", tmp_path / "o", "--from-trial", falisse / "gait_1_ik.mot",
+    r = run_walk3d("predict", "--out", tmp_path / "o", "--from-trial", falisse / "gait_1_ik.mot",
              "--grf", falisse / "gait_1_grf.mot", "--nodes", "1")  # fmt: skip
-    _one_line_error(r, "nodes")
+    exits_with_one_line(r, "nodes")
     assert "V = 1.2705 m/s" in r.stdout and "T = 1.07" in r.stdout
     assert not (tmp_path / "o").exists()
     # the trial's V with T and Td predicted (auto given): printed as such, no traceback
-    r = _run("predict", "--out", tmp_path / "o", "--from-trial", falisse / "gait_1_ik.mot",
+    r = run_walk3d("predict", "--out", tmp_path / "o", "--from-trial", falisse / "gait_1_ik.mot",
              "--grf", falisse / "gait_1_grf.mot", "--period", "auto", "--double-support", "auto",
              "--nodes", "1")  # fmt: skip
-    _one_line_error(r, "nodes")
+    exits_with_one_line(r, "nodes")
     assert "V = 1.2705 m/s" in r.stdout and "T = auto (predicted)" in r.stdout
 
 
 def test_validate_writes_tables_and_figures(pred_dir, tmp_path, falisse):
     out = tmp_path / "val"
-    r = _run("validate", pred_dir, "--reference", falisse / "cycle_right_leg_mean_sd.csv",
+    r = run_walk3d("validate", pred_dir, "--reference", falisse / "cycle_right_leg_mean_sd.csv",
              "--out", out)  # fmt: skip
     assert r.returncode == 0, r.stderr
     assert "Table 2" in r.stdout and "missing" in r.stdout and "Table 3" in r.stdout
@@ -232,10 +214,10 @@ def test_a_non_finite_recorded_period_is_one_line(pred_dir, tmp_path, falisse):
     summary["settings"]["gait"]["period"] = float("inf")
     replace_result_file(bad, "summary.json", json.dumps(summary).encode())
     table = falisse / "cycle_right_leg_mean_sd.csv"
-    r = _run("validate", bad, "--reference", table, "--out", tmp_path / "v")
-    _one_line_error(r, "settings.gait.period inf", "not the cycle's period")
+    r = run_walk3d("validate", bad, "--reference", table, "--out", tmp_path / "v")
+    exits_with_one_line(r, "settings.gait.period inf", "not the cycle's period")
     assert not (tmp_path / "v").exists()
-    r = _run("validate", pred_dir, "--reference", table, "--out", tmp_path / "v")
+    r = run_walk3d("validate", pred_dir, "--reference", table, "--out", tmp_path / "v")
     assert r.returncode == 0 and "Warning" not in r.stderr, r.stderr
 
 
@@ -255,7 +237,7 @@ def test_a_result_that_did_not_converge_is_named_with_the_scores_reason(pred_dir
     table = falisse / "cycle_right_leg_mean_sd.csv"
     bad = _labelled(pred_dir, tmp_path, converged=False, status="Maximum_Iterations_Exceeded",
                     gait_checks={"looks_like_walking": True})  # fmt: skip
-    r = _run("validate", bad, "--reference", table, "--out", tmp_path / "v")
+    r = run_walk3d("validate", bad, "--reference", table, "--out", tmp_path / "v")
     assert r.returncode == 0, r.stderr
     assert r.stderr.strip().splitlines() == [
         f"walk3d: warning: {bad}: the solve did not converge (Maximum_Iterations_Exceeded): "
@@ -267,13 +249,13 @@ def test_a_result_that_did_not_converge_is_named_with_the_scores_reason(pred_dir
     # negative control: the same folder converged and walking is neither warned nor failed
     good = _labelled(pred_dir, tmp_path / "g", converged=True,
                      gait_checks={"looks_like_walking": True})  # fmt: skip
-    r = _run("validate", good, "--reference", table, "--out", tmp_path / "w")
+    r = run_walk3d("validate", good, "--reference", table, "--out", tmp_path / "w")
     assert r.returncode == 0 and "warning" not in r.stderr, r.stderr
     assert "failed" not in r.stdout and "NOT CONVERGED" not in r.stdout
     assert "ok" in _table2_statuses(tmp_path / "w")
     walking = _labelled(pred_dir, tmp_path / "n", converged=True,
                         gait_checks={"looks_like_walking": False})  # fmt: skip
-    r = _run("validate", walking, "--reference", table, "--out", tmp_path / "x")
+    r = run_walk3d("validate", walking, "--reference", table, "--out", tmp_path / "x")
     assert r.returncode == 0 and "ok (not walking)" in _table2_statuses(tmp_path / "x")
 
 

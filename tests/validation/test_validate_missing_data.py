@@ -3,33 +3,11 @@ partial reference a warning naming what it lacks and a score marked partial, and
 GRF file whose times do not overlap are refused."""
 
 import json
-import subprocess
-import sys
 
-import pytest
-from validation_support import cli_env
+from validation_support import exits_with_one_line, run_walk3d
 
 from walk3d.io.storage import read_storage
-from walk3d.results.prediction import save_prediction
 from walk3d.trials.trial import check_overlap
-
-
-def _run(*args, timeout=120):
-    cmd = [sys.executable, "-m", "walk3d.cli", *map(str, args)]
-    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=cli_env())
-
-
-def _one_line_error(r, *words):
-    assert r.returncode == 2, r.stdout + r.stderr
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("walk3d: error:"), r.stderr
-    for w in words:
-        assert w in lines[0], r.stderr
-
-
-@pytest.fixture(scope="module")
-def pred_dir(synthetic_prediction, tmp_path_factory):
-    return save_prediction(synthetic_prediction, tmp_path_factory.mktemp("pred") / "p")
 
 
 def _table_without(falisse, tmp_path, prefix):
@@ -44,14 +22,14 @@ def _table_without(falisse, tmp_path, prefix):
 
 
 def test_a_reference_with_only_percent_is_refused_before_writing(pred_dir, tmp_path, falisse):
-    r = _run("validate", pred_dir, "--reference", _table_without(falisse, tmp_path, ""),
+    r = run_walk3d("validate", pred_dir, "--reference", _table_without(falisse, tmp_path, ""),
              "--out", tmp_path / "v")  # fmt: skip
-    _one_line_error(r, "without_all.csv holds none of the scored quantities")
+    exits_with_one_line(r, "without_all.csv holds none of the scored quantities")
     assert not (tmp_path / "v").exists()
 
 
 def test_a_reference_without_the_knee_gives_a_partial_score(pred_dir, tmp_path, falisse):
-    r = _run("validate", pred_dir, "--reference", _table_without(falisse, tmp_path, "knee_"),
+    r = run_walk3d("validate", pred_dir, "--reference", _table_without(falisse, tmp_path, "knee_"),
              "--out", tmp_path / "v")  # fmt: skip
     assert r.returncode == 0, r.stderr
     warnings = [line for line in r.stderr.splitlines() if line.startswith("walk3d: warning:")]
@@ -61,7 +39,7 @@ def test_a_reference_without_the_knee_gives_a_partial_score(pred_dir, tmp_path, 
     assert saved["partial"] is True
     assert saved["missing"] == ["angle:knee_flexion", "moment:knee_flexion"]
     # negative control: the whole table is a full score, without a warning
-    r = _run("validate", pred_dir, "--reference", falisse / "cycle_right_leg_mean_sd.csv",
+    r = run_walk3d("validate", pred_dir, "--reference", falisse / "cycle_right_leg_mean_sd.csv",
              "--out", tmp_path / "w")  # fmt: skip
     assert r.returncode == 0 and "warning" not in r.stderr and "PARTIAL" not in r.stdout
     assert json.loads((tmp_path / "w" / "score.json").read_text())["partial"] is False
@@ -75,9 +53,9 @@ def test_an_ik_and_a_grf_that_do_not_overlap_are_refused(pred_dir, tmp_path, fal
         lines[i] = f"{float(t) + 100:.4f}\t{rest}"
     shifted = tmp_path / "grf_shift.mot"
     shifted.write_text("\n".join(lines) + "\n")
-    r = _run("validate", pred_dir, "--reference", falisse / "gait_1_ik.mot", "--reference",
+    r = run_walk3d("validate", pred_dir, "--reference", falisse / "gait_1_ik.mot", "--reference",
              shifted, "--out", tmp_path / "v")  # fmt: skip
-    _one_line_error(r, "gait_1_ik.mot", "grf_shift.mot", "do not overlap in time")
+    exits_with_one_line(r, "gait_1_ik.mot", "grf_shift.mot", "do not overlap in time")
     assert not (tmp_path / "v").exists()
     # negative control: the trial's own files overlap
     check_overlap(read_storage(falisse / "gait_1_ik.mot"), read_storage(falisse / "gait_1_grf.mot"),

@@ -6,15 +6,7 @@ from __future__ import annotations
 import shutil
 
 import numpy as np
-import pytest
 from helpers import cli, one_line_error, replace_result_file
-
-from walk3d.results.prediction import save_prediction
-
-
-@pytest.fixture(scope="module")
-def pred_dir(synthetic_prediction, tmp_path_factory):
-    return save_prediction(synthetic_prediction, tmp_path_factory.mktemp("pred") / "p")
 
 
 def _falisse_rows(falisse) -> tuple[str, list[str]]:

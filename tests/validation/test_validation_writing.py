@@ -17,13 +17,6 @@ TABLES = 3
 """table2.csv, table3.csv and measured_fit.csv, written before the figures."""
 
 
-@pytest.fixture(scope="module")
-def pred_dir(synthetic_prediction, tmp_path_factory):
-    from walk3d.results.prediction import save_prediction
-
-    return save_prediction(synthetic_prediction, tmp_path_factory.mktemp("pred") / "p")
-
-
 @pytest.fixture()
 def table(falisse):
     return falisse / "cycle_right_leg_mean_sd.csv"
