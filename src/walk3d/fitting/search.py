@@ -108,26 +108,26 @@ def parameter(text: str, base: str) -> Parameter:
             f"model option ({', '.join(OPTION_RANGES)})"
         )
     start = terms.parse(base).get(name) or EMPTY_START
-    low, high = start / SPAN, start * SPAN
-    if eq and not span.strip():
-        raise ValueError(f"--parameter {text!r}: the range is low:high, e.g. impact=0.5:20")
-    if span:
-        bounds = [decimal(v) for v in span.split(":")]  # float() would read 1_0 as 10
-        if len(bounds) != 2 or any(math.isnan(b) for b in bounds):
-            raise ValueError(f"--parameter {text!r}: the range is low:high, e.g. impact=0.5:20")
-        low, high = bounds
+    low, high = _span(text, span, "impact=0.5:20") if eq else (start / SPAN, start * SPAN)
     if not (0 < low < high < math.inf) or not (low <= start <= high):
         raise ValueError(f"--parameter {text!r}: need 0 < low <= start ({start:g}) <= high")
     return Parameter(name, low, high, start)
+
+
+def _span(text: str, span: str, example: str) -> tuple[float, float]:
+    """``low:high`` of a ``--parameter`` as plain decimals (``float`` would read 1_0 as 10);
+    ValueError (one line) for anything else."""
+    bounds = [decimal(v) for v in span.split(":")] if span.strip() else []
+    if len(bounds) != 2 or any(math.isnan(b) for b in bounds):
+        raise ValueError(f"--parameter {text!r}: the range is low:high, e.g. {example}")
+    return bounds[0], bounds[1]
 
 
 def _option(text: str, name: str, eq: str, span: str) -> Parameter:
     """``option`` or ``option=low:high`` within its :data:`OPTION_RANGES`."""
     low, high, start = OPTION_RANGES[name]
     if eq:
-        bounds = [decimal(v) for v in span.split(":")] if span.strip() else []
-        if len(bounds) != 2 or any(math.isnan(b) for b in bounds):
-            raise ValueError(f"--parameter {text!r}: the range is low:high, e.g. {name}=0.4:0.8")
+        bounds = _span(text, span, f"{name}=0.4:0.8")
         if not (low <= bounds[0] < bounds[1] <= high):
             raise ValueError(f"--parameter {text!r}: need {low:g} <= low < high <= {high:g}")
         low, high = bounds
